@@ -1,0 +1,290 @@
+#include "core/interval.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cfloat>
+#include <numbers>
+
+namespace iaa {
+
+namespace {
+
+using Rounding = Interval::Boost::traits_type::rounding;
+
+#ifdef IAA_CHECK_ROUNDING
+#define IAA_ASSERT_UPWARD() assert(rounding_is_upward() && "Interval op outside a RoundingScope")
+#else
+#define IAA_ASSERT_UPWARD() ((void)0)
+#endif
+
+constexpr double kInf = Interval::kInf;
+constexpr double kPi = std::numbers::pi;
+
+// Decides conservatively whether some point c_k = offset + k * period lies in [lo, hi]. Returns
+// the smallest such k through *k_first and whether the range may hold more than one. The slack
+// (1e-9 periods) absorbs the rounding error of the division for |x| <= 1e6: a critical point that
+// is truly inside is never missed; one just outside may be reported (a looser, still sound bound).
+struct CriticalPoints {
+  bool any;        // at least one c_k may lie in [lo, hi]
+  double k_first;  // smallest candidate k (integer-valued)
+  double k_last;   // largest candidate k
+};
+CriticalPoints critical_points(double lo, double hi, double offset, double period) {
+  const double slack = 1e-9;
+  const double a = std::ceil((lo - offset) / period - slack);
+  const double b = std::floor((hi - offset) / period + slack);
+  return {a <= b, a, b};
+}
+// Beyond this magnitude the critical-point slack above is not proved; sin/cos/tan give their
+// whole range.
+constexpr double kTrigArgLimit = 1e6;
+
+bool is_even(double k) { return std::fmod(std::fabs(k), 2.0) == 0.0; }
+
+}  // namespace
+
+double widen_down(double v, int n) {
+  if (!std::isfinite(v)) return v;
+  // n * 2^-52 * |v| is between n/2 and n ulps of v; 2^-1074 per ulp covers subnormals.
+  const double d = std::fabs(v) * (n * DBL_EPSILON) + n * std::numeric_limits<double>::denorm_min();
+  return std::nextafter(v - d, -kInf);
+}
+
+double widen_up(double v, int n) {
+  if (!std::isfinite(v)) return v;
+  const double d = std::fabs(v) * (n * DBL_EPSILON) + n * std::numeric_limits<double>::denorm_min();
+  return std::nextafter(v + d, kInf);
+}
+
+double Interval::mid() const {
+  if (is_empty()) return std::numeric_limits<double>::quiet_NaN();
+  if (lo_ == -kInf && hi_ == kInf) return 0.0;
+  if (lo_ == -kInf) return hi_ > 0.0 ? 0.0 : hi_;
+  if (hi_ == kInf) return lo_ < 0.0 ? 0.0 : lo_;
+  const double m = lo_ + 0.5 * (hi_ - lo_);
+  return std::clamp(m, lo_, hi_);
+}
+
+Interval hull(const Interval& a, const Interval& b) {
+  if (a.is_empty()) return b;
+  if (b.is_empty()) return a;
+  return Interval::raw(std::min(a.lo(), b.lo()), std::max(a.hi(), b.hi()));
+}
+
+Interval intersect(const Interval& a, const Interval& b) {
+  const double lo = std::max(a.lo(), b.lo());
+  const double hi = std::min(a.hi(), b.hi());
+  return lo <= hi ? Interval::raw(lo, hi) : Interval::empty();
+}
+
+Interval operator+(const Interval& a, const Interval& b) {
+  IAA_ASSERT_UPWARD();
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  Rounding rnd;
+  return Interval(rnd.add_down(a.lo(), b.lo()), rnd.add_up(a.hi(), b.hi()));
+}
+
+Interval operator-(const Interval& a, const Interval& b) {
+  IAA_ASSERT_UPWARD();
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  Rounding rnd;
+  return Interval(rnd.sub_down(a.lo(), b.hi()), rnd.sub_up(a.hi(), b.lo()));
+}
+
+Interval operator-(const Interval& a) {
+  if (a.is_empty()) return a;
+  return Interval::raw(-a.hi(), -a.lo());
+}
+
+Interval operator*(const Interval& a, const Interval& b) {
+  IAA_ASSERT_UPWARD();
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  // A factor that is exactly 0 makes the product 0 even when the other factor is unbounded
+  // (0 times any real is 0; IEEE's 0 * inf = NaN would otherwise widen the result to everything).
+  if ((a.lo() == 0.0 && a.hi() == 0.0) || (b.lo() == 0.0 && b.hi() == 0.0)) return Interval(0.0);
+  return Interval(a.boost() * b.boost());
+}
+
+Interval divide(const Interval& a, const Interval& b, Domain* dom) {
+  IAA_ASSERT_UPWARD();
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  if (!b.contains_zero()) return Interval(a.boost() / b.boost());
+  *dom = Domain::kPartial;
+  if (b.lo() == 0.0 && b.hi() == 0.0) return Interval::empty();  // undefined everywhere
+  if (a.lo() == 0.0 && a.hi() == 0.0) return Interval(0.0);       // 0 / y = 0 wherever defined
+  Rounding rnd;
+  if (b.lo() == 0.0) {  // divisor in (0, hi]
+    if (a.lo() >= 0.0) return Interval(rnd.div_down(a.lo(), b.hi()), kInf);
+    if (a.hi() <= 0.0) return Interval(-kInf, rnd.div_up(a.hi(), b.hi()));
+    return Interval::whole();
+  }
+  if (b.hi() == 0.0) {  // divisor in [lo, 0)
+    if (a.lo() >= 0.0) return Interval(-kInf, rnd.div_up(a.lo(), b.lo()));
+    if (a.hi() <= 0.0) return Interval(rnd.div_down(a.hi(), b.lo()), kInf);
+    return Interval::whole();
+  }
+  // 0 strictly inside the divisor: the two branches together cover the whole line.
+  return Interval::whole();
+}
+
+Interval operator/(const Interval& a, const Interval& b) {
+  Domain dom = Domain::kFull;
+  return divide(a, b, &dom);
+}
+
+Interval square(const Interval& x) {
+  IAA_ASSERT_UPWARD();
+  if (x.is_empty()) return x;
+  return Interval(boost::numeric::square(x.boost()));
+}
+
+Interval pow_int(const Interval& x, int n) {
+  IAA_ASSERT_UPWARD();
+  assert(n >= 0);
+  if (x.is_empty()) return x;
+  if (n == 0) return Interval(1.0);
+  if (n == 1) return x;
+  return Interval(boost::numeric::pow(x.boost(), n));
+}
+
+Interval sqrt(const Interval& x, Domain* dom) {
+  IAA_ASSERT_UPWARD();
+  if (x.is_empty()) return x;
+  if (x.hi() < 0.0) {
+    *dom = Domain::kPartial;
+    return Interval::empty();
+  }
+  double lo = x.lo();
+  if (lo < 0.0) {
+    *dom = Domain::kPartial;
+    lo = 0.0;
+  }
+  // IEEE sqrt is correctly rounded in the current (upward) mode: std::sqrt(hi) >= the true root.
+  // One step down from the upward-rounded root is below the true root of lo.
+  double r_lo = std::sqrt(lo);
+  if (r_lo > 0.0) r_lo = std::nextafter(r_lo, 0.0);
+  return Interval(r_lo, std::sqrt(x.hi()));
+}
+
+Interval exp(const Interval& x) {
+  if (x.is_empty()) return x;
+  // exp > 0 and finite for every real argument, so clamp the lower bound into (0, DBL_MAX].
+  const double lo = std::clamp(widen_down(std::exp(x.lo())), 0.0, DBL_MAX);
+  const double hi = widen_up(std::exp(x.hi()));
+  return Interval(lo, hi);
+}
+
+Interval log(const Interval& x, Domain* dom) {
+  if (x.is_empty()) return x;
+  if (x.hi() <= 0.0) {
+    *dom = Domain::kPartial;
+    return Interval::empty();
+  }
+  double lo = -kInf;
+  if (x.lo() <= 0.0) {
+    *dom = Domain::kPartial;
+  } else {
+    lo = widen_down(std::log(x.lo()));
+  }
+  // log of a finite double is at most ~709.8; log(inf) = inf stays unbounded.
+  return Interval(lo, widen_up(std::log(x.hi())));
+}
+
+namespace {
+// Shared by sin and cos: f has its maxima at offset + 2k pi and minima at offset + (2k+1) pi.
+Interval periodic_unit(const Interval& x, double (*f)(double), double max_offset) {
+  if (x.is_empty()) return x;
+  if (!x.is_finite() || x.mag() > kTrigArgLimit || x.hi() - x.lo() >= 2.0 * kPi) {
+    return Interval(-1.0, 1.0);
+  }
+  const double a = f(x.lo());
+  const double b = f(x.hi());
+  double lo = widen_down(std::min(a, b));
+  double hi = widen_up(std::max(a, b));
+  // Extrema lie at max_offset + k pi: even k is a maximum, odd k a minimum.
+  const CriticalPoints c = critical_points(x.lo(), x.hi(), max_offset, kPi);
+  if (c.any) {
+    if (c.k_last > c.k_first || is_even(c.k_first)) hi = 1.0;
+    if (c.k_last > c.k_first || !is_even(c.k_first)) lo = -1.0;
+  }
+  return Interval(std::max(lo, -1.0), std::min(hi, 1.0));
+}
+double sin_d(double v) { return std::sin(v); }
+double cos_d(double v) { return std::cos(v); }
+}  // namespace
+
+Interval sin(const Interval& x) { return periodic_unit(x, sin_d, kPi / 2.0); }
+Interval cos(const Interval& x) { return periodic_unit(x, cos_d, 0.0); }
+
+Interval tan(const Interval& x, Domain* dom) {
+  if (x.is_empty()) return x;
+  if (!x.is_finite() || x.mag() > kTrigArgLimit || x.hi() - x.lo() >= kPi) {
+    *dom = Domain::kPartial;
+    return Interval::whole();
+  }
+  // Poles at pi/2 + k pi; between two poles tan increases.
+  if (critical_points(x.lo(), x.hi(), kPi / 2.0, kPi).any) {
+    *dom = Domain::kPartial;
+    return Interval::whole();
+  }
+  return Interval(widen_down(std::tan(x.lo())), widen_up(std::tan(x.hi())));
+}
+
+Interval atan(const Interval& x) {
+  if (x.is_empty()) return x;
+  const double lim = widen_up(kPi / 2.0);
+  const double lo = x.lo() == -kInf ? -lim : widen_down(std::atan(x.lo()));
+  const double hi = x.hi() == kInf ? lim : widen_up(std::atan(x.hi()));
+  return Interval(std::max(lo, -lim), std::min(hi, lim));
+}
+
+Interval abs(const Interval& x) {
+  if (x.is_empty()) return x;
+  if (x.lo() >= 0.0) return x;
+  if (x.hi() <= 0.0) return -x;
+  return Interval::raw(0.0, std::max(-x.lo(), x.hi()));
+}
+
+Interval min(const Interval& a, const Interval& b) {
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  return Interval::raw(std::min(a.lo(), b.lo()), std::min(a.hi(), b.hi()));
+}
+
+Interval max(const Interval& a, const Interval& b) {
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  return Interval::raw(std::max(a.lo(), b.lo()), std::max(a.hi(), b.hi()));
+}
+
+Interval pow_real(const Interval& x, const Interval& y, Domain* dom) {
+  if (x.is_empty() || y.is_empty()) return Interval::empty();
+  if (x.hi() < 0.0 || (x.hi() == 0.0 && y.hi() <= 0.0)) {
+    *dom = Domain::kPartial;
+    return Interval::empty();
+  }
+  double x0 = x.lo();
+  if (x0 < 0.0) {
+    *dom = Domain::kPartial;
+    x0 = 0.0;
+  }
+  if (x0 == 0.0 && y.lo() <= 0.0) *dom = Domain::kPartial;  // pole or 0^0 at the boundary
+  // x^y is monotone in x for fixed y and in y for fixed x, so its extremes over the box lie at
+  // the four corners (0^y is 0 for y > 0, 1 at y = 0, +inf for y < 0: also monotone in y).
+  const double xs[2] = {x0, x.hi()};
+  const double ys[2] = {y.lo(), y.hi()};
+  double lo = kInf, hi = -kInf;
+  for (double xv : xs) {
+    for (double yv : ys) {
+      if (!std::isfinite(yv)) {  // unbounded exponent: anything from 0 to inf
+        lo = std::min(lo, 0.0);
+        hi = kInf;
+        continue;
+      }
+      const double v = std::pow(xv, yv);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  return Interval(std::max(0.0, widen_down(lo)), widen_up(hi));
+}
+
+}  // namespace iaa

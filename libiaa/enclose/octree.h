@@ -1,0 +1,69 @@
+// Guaranteed enclosure of a surface by an interval octree (DESIGN.md, "Enclosure octree").
+//
+// The bounds are split recursively; every cell whose interval value excludes 0 is discarded (it
+// holds no point of the surface). The leaves kept at the requested depth together contain every
+// point of the surface inside the bounds: that is the guarantee. Each leaf is classified:
+// - kCrossing: f has corner values of both strict signs and is continuous on the cell (no partial
+//   domain), so the surface certainly passes through it;
+// - kPossible: 0 is in F(cell) but no sign change was seen: it may or may not hold surface.
+// Possible leaves may be refined a few levels deeper (refine_possible) so that thin features are
+// either certified or excluded.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/exec.h"
+#include "core/interval.h"
+#include "core/vec.h"
+#include "expr/tape.h"
+
+namespace iaa {
+
+enum class CellClass : std::uint8_t { kCrossing = 1, kPossible = 2 };
+
+/// A leaf of the enclosure. Its box is bounds split `depth` times along every axis, at integer
+/// position `index` (0 <= index[i] < 2^depth), so cells of different depths can be compared and
+/// neighbours found exactly.
+struct Cell {
+  std::array<std::uint32_t, 3> index;
+  std::uint8_t depth;
+  CellClass cls;
+  Interval f;  ///< interval value of f over the cell
+};
+
+/// What to compute.
+struct EncloseSettings {
+  Box3 bounds;
+  /// Depth of the leaves (1..kMaxDepth): cells are bounds / 2^depth per axis.
+  int depth = 7;
+  /// Extra levels below `depth` for possible leaves (0..kMaxRefine).
+  int refine_possible = 0;
+  /// Upper bound on the number of leaves; exceeding it is an error with a clear message.
+  std::uint64_t max_boxes = 20'000'000;
+
+  static constexpr int kMaxDepth = 21;
+  static constexpr int kMaxRefine = 8;
+  /// Throws SettingError naming the setting and its limits.
+  void validate() const;
+};
+
+/// The result: leaves in canonical order (by depth, then Morton order of index), identical for
+/// any thread count.
+struct Enclosure {
+  Box3 bounds;
+  std::vector<Cell> cells;
+  std::uint64_t evaluations = 0;  ///< interval evaluations of f
+  /// Number of leaves per depth and class.
+  std::vector<std::array<std::uint64_t, 2>> counts_by_depth;
+
+  /// The box of a cell.
+  Box3 box(const Cell& c) const;
+};
+
+/// Computes the enclosure of f = 0 in settings.bounds. Throws SettingError on invalid settings
+/// or when max_boxes is exceeded.
+Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec& exec = {});
+
+}  // namespace iaa

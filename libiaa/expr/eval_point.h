@@ -1,0 +1,49 @@
+// Point evaluation in double: f(x, y, z). Undefined points (sqrt of a negative, log of 0, a pole)
+// give NaN or an infinity, never a finite wrong value; callers treat a non-finite value as "no
+// surface here".
+#pragma once
+
+#include "core/vec.h"
+#include "expr/eval_loop.h"
+
+namespace iaa {
+
+namespace detail {
+struct PointRules {
+  using Num = double;
+  static constexpr bool kTracksChoices = false;
+  static double constant(double v) { return v; }
+  static double add(double a, double b) { return a + b; }
+  static double sub(double a, double b) { return a - b; }
+  static double mul(double a, double b) { return a * b; }
+  static double div(double a, double b, Domain*) { return a / b; }
+  static double neg(double a) { return -a; }
+  static double pow_int(double a, int n);
+  static double pow(double a, double b, Domain*);
+  static double square(double a) { return a * a; }
+  static double sqrt(double a, Domain*);
+  static double exp(double a);
+  static double log(double a, Domain*);
+  static double sin(double a);
+  static double cos(double a);
+  static double tan(double a, Domain*);
+  static double atan(double a);
+  static double abs(double a);
+  static double min(double a, double b, std::uint8_t*) { return b < a ? b : a; }
+  static double max(double a, double b, std::uint8_t*) { return b > a ? b : a; }
+};
+}  // namespace detail
+
+/// Evaluates a tape at points. One per thread; no allocation per call.
+class PointEval {
+ public:
+  explicit PointEval(const Tape& tape) : loop_(tape) {}
+  double eval(double x, double y, double z) { return loop_.run(x, y, z); }
+  double eval(const Vec3& p) { return loop_.run(p.x, p.y, p.z); }
+  const Tape& tape() const { return loop_.tape(); }
+
+ private:
+  detail::TapeLoop<detail::PointRules> loop_;
+};
+
+}  // namespace iaa

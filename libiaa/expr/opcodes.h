@@ -1,0 +1,70 @@
+// The one list of operations (STYLE.md, point 4). Each entry names an operation once:
+//   X(enumerator, text name, arity, callable)
+// `callable` operations can be written as functions in the surface language (`sqrt(x)`); the
+// others come from operators (`+ - * / ^`) or are leaves. Parser, tape printer and evaluators are
+// driven by this list; adding a function is one line here plus its evaluation rule in each
+// evaluator (the compiler points at every switch that misses it).
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+namespace iaa {
+
+#define IAA_OPCODES(X)           \
+  X(kVarX, "x", 0, false)        \
+  X(kVarY, "y", 0, false)        \
+  X(kVarZ, "z", 0, false)        \
+  X(kConst, "const", 0, false)   \
+  X(kAdd, "add", 2, false)       \
+  X(kSub, "sub", 2, false)       \
+  X(kMul, "mul", 2, false)       \
+  X(kDiv, "div", 2, false)       \
+  X(kNeg, "neg", 1, false)       \
+  X(kPowInt, "powi", 1, false)   \
+  X(kPow, "pow", 2, true)        \
+  X(kSquare, "square", 1, true)  \
+  X(kSqrt, "sqrt", 1, true)      \
+  X(kExp, "exp", 1, true)        \
+  X(kLog, "log", 1, true)        \
+  X(kSin, "sin", 1, true)        \
+  X(kCos, "cos", 1, true)        \
+  X(kTan, "tan", 1, true)        \
+  X(kAtan, "atan", 1, true)      \
+  X(kAbs, "abs", 1, true)        \
+  X(kMin, "min", 2, true)        \
+  X(kMax, "max", 2, true)
+
+/// An operation of the expression language.
+enum class Op : std::uint8_t {
+#define IAA_OP_ENUM(name, text, arity, callable) name,
+  IAA_OPCODES(IAA_OP_ENUM)
+#undef IAA_OP_ENUM
+};
+
+/// Static facts about an operation, from IAA_OPCODES.
+struct OpInfo {
+  std::string_view text;
+  int arity;
+  bool callable;
+};
+
+inline constexpr OpInfo kOpInfo[] = {
+#define IAA_OP_INFO(name, text, arity, callable) {text, arity, callable},
+    IAA_OPCODES(IAA_OP_INFO)
+#undef IAA_OP_INFO
+};
+
+inline constexpr int kOpCount = sizeof(kOpInfo) / sizeof(kOpInfo[0]);
+
+inline const OpInfo& info(Op op) { return kOpInfo[static_cast<int>(op)]; }
+
+/// True for operations whose arguments can be swapped (merged as one node either way).
+inline bool is_commutative(Op op) {
+  return op == Op::kAdd || op == Op::kMul || op == Op::kMin || op == Op::kMax;
+}
+
+/// Largest integer exponent accepted in `x^n` (larger powers overflow doubles for |x| > 16).
+inline constexpr int kMaxIntPower = 256;
+
+}  // namespace iaa

@@ -1,0 +1,68 @@
+// A flat tape: the expression compiled to numbered slots, evaluated front to back.
+//
+// Slots 0, 1, 2 hold x, y, z; the next slots hold the constants; every further slot is the output
+// of one instruction whose arguments are earlier slots. Each evaluator (point, interval,
+// interval+gradient, point+gradient) owns an array of slots and runs the same tape. The tape is
+// the hot loop of everything in iaa.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "expr/dag.h"
+#include "expr/opcodes.h"
+#include "expr/parser.h"
+
+namespace iaa {
+
+/// One instruction; its output is the slot with the instruction's own index.
+struct Instr {
+  Op op;
+  std::int32_t a = -1;  ///< first argument slot
+  std::int32_t b = -1;  ///< second argument slot
+  std::int32_t power = 0;  ///< exponent of kPowInt
+};
+
+class Tape {
+ public:
+  /// Compiles the part of `dag` reachable from its root.
+  static Tape compile(const Dag& dag);
+  /// Parses and compiles; throws ParseError.
+  static Tape parse(std::string_view text, const Params& params = {});
+
+  /// All slots; entries below first_op() are kVarX/Y/Z and kConst.
+  std::span<const Instr> instrs() const { return instrs_; }
+  /// Value of each slot that is a constant (0 for the others).
+  std::span<const double> constants() const { return constants_; }
+  int size() const { return static_cast<int>(instrs_.size()); }
+  /// Index of the first computing instruction.
+  int first_op() const { return first_op_; }
+  /// Number of computing instructions (the tape's length as a cost measure).
+  int op_count() const { return size() - first_op_; }
+  /// Slot of the expression's value.
+  int root() const { return root_; }
+  /// True when the tape contains min or max (branches that intervals may prune).
+  bool has_min_max() const { return has_min_max_; }
+
+  /// Expression text that parses back to this tape (shared subexpressions are written out).
+  std::string to_text() const;
+  /// A numbered listing, one instruction per line, for `iaa eval --tape`.
+  std::string listing() const;
+
+  /// Specializes the tape for a region where some min/max are decided: `choice[i]` is 1 when
+  /// instruction i (a min or max) certainly takes its first argument, 2 its second, 0 undecided.
+  /// The result computes the same function on that region with fewer instructions.
+  Tape simplify(std::span<const std::uint8_t> choice) const;
+
+ private:
+  std::vector<Instr> instrs_;
+  std::vector<double> constants_;
+  int first_op_ = 3;
+  int root_ = 0;
+  bool has_min_max_ = false;
+};
+
+}  // namespace iaa

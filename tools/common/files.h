@@ -1,0 +1,25 @@
+// File input and output for the tools: whole-file reads with clear errors, and atomic writes
+// (write to a temporary file beside the target, then rename) so that a failed or interrupted
+// command never leaves a half-written output behind.
+#pragma once
+
+#include <functional>
+#include <string>
+
+namespace iaa::tools {
+
+/// Reads a whole file; throws iaa::Error naming the path when it cannot.
+std::string read_file(const std::string& path);
+
+/// Calls write(tmp_path) to produce the file, then renames tmp_path to `path`. On any exception
+/// the temporary file is removed and the exception propagates. Fails early, with a message naming
+/// the path, when the target directory does not exist or is not writable.
+void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write);
+
+/// Writes `contents` to `path` atomically.
+void write_text_atomically(const std::string& path, const std::string& contents);
+
+/// Lower-case extension of a path without the dot ("png" for "a/b.PNG"), empty if none.
+std::string extension_of(const std::string& path);
+
+}  // namespace iaa::tools

@@ -1,0 +1,34 @@
+// Subcommand registry of the `iaa` tool. Each subcommand lives in its own cmd_*.cpp and registers
+// itself with a static `CommandRegistrar`; main() builds the CLI from the registry. A subcommand's
+// setup function adds its options to its CLI11 sub-app and sets the callback that runs it. The
+// callback throws iaa::Error for bad input; main turns that into a message and exit code 1.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace iaa::cli {
+
+struct Command {
+  std::string name;
+  std::string summary;
+  int order;  ///< position in `iaa --help`
+  std::function<void(CLI::App&)> setup;
+};
+
+std::vector<Command>& commands();
+
+struct CommandRegistrar {
+  explicit CommandRegistrar(Command c) { commands().push_back(std::move(c)); }
+};
+
+/// Parses "a,b,c" into three doubles; throws iaa::Error naming `what` on failure.
+std::array<double, 3> parse_triple(const std::string& text, const std::string& what);
+
+/// Parses "a,b" into two integers; throws iaa::Error naming `what` on failure.
+std::array<int, 2> parse_int_pair(const std::string& text, const std::string& what);
+
+}  // namespace iaa::cli
