@@ -1,0 +1,91 @@
+// Tracing one pixel: every sub-beam, every depth piece tested, every decision, with its numbers.
+//
+// `iaa inspect --pixel X,Y` (and tests) call render_pixel() (render.h) with a PixelTrace. The full
+// render calls the *same* function per pixel with a null trace, so what inspect shows is exactly
+// what the render did. All recording goes through `if (trace)`: a null trace costs one branch.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/interval.h"
+#include "core/vec.h"
+
+namespace iaa {
+
+/// Result of EvalRaySet on a beam (DESIGN.md, "Beams and the depth search").
+enum class BeamResult : std::uint8_t {
+  kMiss = 0,     ///< certified: no ray of the beam meets the surface in the searched depths
+  kFull = 1,     ///< certified: every ray of the beam meets the surface in [t_near, t_far]
+  kPartial = 2,  ///< possible: some ray may meet the surface, none before t_near
+};
+const char* beam_result_name(BeamResult r);
+
+/// A rectangle of continuous pixel coordinates [u0, u1] x [v0, v1] (u right, v down).
+struct PixelRect {
+  double u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+  double width() const { return u1 - u0; }
+  double height() const { return v1 - v0; }
+  double area() const { return (u1 - u0) * (v1 - v0); }
+};
+
+/// One depth piece [t0, t1] of a beam that was evaluated.
+struct DepthPieceTrace {
+  Interval t;     ///< the depth range
+  IBox box;       ///< the beam's box over t, clipped to the scene bounds
+  Interval f;     ///< F(box); empty when the box was empty (outside the bounds)
+  bool kept;      ///< false: excluded (0 not in F), true: 0 in F (may hold surface)
+  bool partial;   ///< F met a partial domain on the box
+};
+
+/// What the renderer did with a beam after EvalRaySet.
+enum class BeamDecision : std::uint8_t {
+  kBackground = 0,   ///< Miss: the whole area is background
+  kShadeFull = 1,    ///< Full and estimator within threshold: shaded once
+  kShadeLeaf = 2,    ///< at max_level: shaded as surface (uncertain when Partial)
+  kSplit = 3,        ///< split into 4 sub-beams
+  kDescend = 4,      ///< screen-block elimination: passed on to smaller blocks
+};
+const char* beam_decision_name(BeamDecision d);
+
+/// One beam: a screen block above the pixel (level < 0) or a sub-beam of the pixel
+/// (level 0 = the pixel, level k = 1/4^k of it).
+struct BeamTrace {
+  PixelRect rect;
+  int level = 0;
+  int parent = -1;              ///< index of the parent in PixelTrace::beams, -1 for the root
+  Interval searched;            ///< depth range searched ([parent t_near, ...])
+  std::vector<DepthPieceTrace> pieces;  ///< every piece evaluated, in order
+  BeamResult result = BeamResult::kMiss;
+  double t_near = 0, t_far = 0;  ///< t_far only meaningful for kFull
+  IBox hit_box;                 ///< box of the beam over [t_near, t_far] (Full) or the kept piece
+  std::string full_reason;      ///< why full coverage was or was not certified
+  Interval estimator = Interval::empty();  ///< the estimator interval (empty when not computed)
+  BeamDecision decision = BeamDecision::kBackground;
+  // Shading (for kShadeFull / kShadeLeaf).
+  bool center_ray_hit = false;  ///< the central ray's exact hit was found
+  Vec3 point, normal;           ///< shading point and unit normal (facing the eye)
+  Vec3 color;                   ///< linear RGB of this part
+  std::uint64_t evals = 0;      ///< interval evaluations spent on this beam (search + shading)
+};
+
+/// One point-sampled ray (baselines, or the central ray of an IAA leaf).
+struct RayTrace {
+  double u = 0, v = 0;  ///< pixel coordinates of the ray
+  Interval searched;    ///< depth range searched
+  bool hit = false;
+  bool certified = false;  ///< the root was proved (sign change or interval Newton)
+  Interval t_hit;          ///< enclosure of the first root when hit
+  Vec3 color;
+};
+
+/// Everything render_pixel() did for one pixel. Pass a pointer to one to record; null = no cost.
+struct PixelTrace {
+  int x = 0, y = 0;
+  std::vector<BeamTrace> beams;  ///< screen blocks first (level < 0), then the pixel's quadtree
+  std::vector<RayTrace> rays;    ///< point-sampled rays (baseline methods)
+  Vec3 color;                    ///< final linear colour of the pixel
+};
+
+}  // namespace iaa
