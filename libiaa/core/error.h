@@ -49,10 +49,10 @@ class SettingError : public Error {
 }  // namespace iaa
 
 /// Checks an internal invariant; aborts with its location when it fails (a bug in iaa).
-#define IAA_CHECK(cond)                                                                    \
-  do {                                                                                     \
-    if (!(cond)) {                                                                         \
+#define IAA_CHECK(cond)                                                                      \
+  do {                                                                                       \
+    if (!(cond)) {                                                                           \
       std::fprintf(stderr, "%s:%d: internal check failed: %s\n", __FILE__, __LINE__, #cond); \
-      std::abort();                                                                        \
-    }                                                                                      \
+      std::abort();                                                                          \
+    }                                                                                        \
   } while (0)

@@ -39,7 +39,9 @@ CriticalPoints critical_points(double lo, double hi, double offset, double perio
 // whole range.
 constexpr double kTrigArgLimit = 1e6;
 
-bool is_even(double k) { return std::fmod(std::fabs(k), 2.0) == 0.0; }
+bool is_even(double k) {
+  return std::fmod(std::fabs(k), 2.0) == 0.0;
+}
 
 }  // namespace
 
@@ -111,7 +113,7 @@ Interval divide(const Interval& a, const Interval& b, Domain* dom) {
   if (!b.contains_zero()) return Interval(a.boost() / b.boost());
   *dom = Domain::kPartial;
   if (b.lo() == 0.0 && b.hi() == 0.0) return Interval::empty();  // undefined everywhere
-  if (a.lo() == 0.0 && a.hi() == 0.0) return Interval(0.0);       // 0 / y = 0 wherever defined
+  if (a.lo() == 0.0 && a.hi() == 0.0) return Interval(0.0);      // 0 / y = 0 wherever defined
   Rounding rnd;
   if (b.lo() == 0.0) {  // divisor in (0, hi]
     if (a.lo() >= 0.0) return Interval(rnd.div_down(a.lo(), b.hi()), kInf);
@@ -209,12 +211,20 @@ Interval periodic_unit(const Interval& x, double (*f)(double), double max_offset
   }
   return Interval(std::max(lo, -1.0), std::min(hi, 1.0));
 }
-double sin_d(double v) { return std::sin(v); }
-double cos_d(double v) { return std::cos(v); }
+double sin_d(double v) {
+  return std::sin(v);
+}
+double cos_d(double v) {
+  return std::cos(v);
+}
 }  // namespace
 
-Interval sin(const Interval& x) { return periodic_unit(x, sin_d, kPi / 2.0); }
-Interval cos(const Interval& x) { return periodic_unit(x, cos_d, 0.0); }
+Interval sin(const Interval& x) {
+  return periodic_unit(x, sin_d, kPi / 2.0);
+}
+Interval cos(const Interval& x) {
+  return periodic_unit(x, cos_d, 0.0);
+}
 
 Interval tan(const Interval& x, Domain* dom) {
   if (x.is_empty()) return x;
@@ -269,7 +279,9 @@ Interval pow_real(const Interval& x, const Interval& y, Domain* dom) {
   if (x0 == 0.0 && y.lo() <= 0.0) *dom = Domain::kPartial;  // pole or 0^0 at the boundary
   // x^y is monotone in x for fixed y and in y for fixed x, so its extremes over the box lie at
   // the four corners (0^y is 0 for y > 0, 1 at y = 0, +inf for y < 0: also monotone in y).
-  const double xs[2] = {x0, x.hi()};
+  // Signed zeros matter to std::pow (pow(-0, -1) = -inf): use +0.
+  if (x0 == 0.0) x0 = 0.0;
+  const double xs[2] = {x0, x.hi() == 0.0 ? 0.0 : x.hi()};
   const double ys[2] = {y.lo(), y.hi()};
   double lo = kInf, hi = -kInf;
   for (double xv : xs) {

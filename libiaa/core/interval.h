@@ -22,7 +22,8 @@
 // - Integer powers are tight: [-2,1]^2 = [0,4].
 // - NaN never escapes: a NaN lower bound becomes -inf and a NaN upper bound +inf (this happens for
 //   inf - inf or 0 * inf), which is the sound answer "anything".
-// - Empty intervals are represented by lo = +inf, hi = -inf; `is_empty()` tests it. Operations on an
+// - Empty intervals are represented by lo = +inf, hi = -inf; `is_empty()` tests it. Operations on
+// an
 //   empty interval give empty.
 #pragma once
 
@@ -37,8 +38,8 @@ namespace iaa {
 namespace detail {
 namespace bil = boost::numeric::interval_lib;
 // Upward-rounding policy without per-operation mode switches; RoundingScope sets the mode.
-using FastPolicies =
-    bil::policies<bil::save_state_nothing<bil::rounded_arith_opp<double>>, bil::checking_base<double>>;
+using FastPolicies = bil::policies<bil::save_state_nothing<bil::rounded_arith_opp<double>>,
+                                   bil::checking_base<double>>;
 using BoostInterval = boost::numeric::interval<double, FastPolicies>;
 }  // namespace detail
 
@@ -57,7 +58,9 @@ class RoundingScope {
 };
 
 /// True when the current thread rounds upward, i.e. a RoundingScope is alive.
-inline bool rounding_is_upward() { return std::fegetround() == FE_UPWARD; }
+inline bool rounding_is_upward() {
+  return std::fegetround() == FE_UPWARD;
+}
 
 /// Number of ulps by which the results of <cmath> transcendental functions are widened.
 /// glibc documents at most 1-4 ulps of error for exp, log, sin, cos, tan, atan, pow on x86-64 in
@@ -139,9 +142,15 @@ Interval operator-(const Interval& a);
 Interval operator*(const Interval& a, const Interval& b);
 /// Division; see the header comment for divisors containing 0.
 Interval operator/(const Interval& a, const Interval& b);
-inline Interval& operator+=(Interval& a, const Interval& b) { return a = a + b; }
-inline Interval& operator-=(Interval& a, const Interval& b) { return a = a - b; }
-inline Interval& operator*=(Interval& a, const Interval& b) { return a = a * b; }
+inline Interval& operator+=(Interval& a, const Interval& b) {
+  return a = a + b;
+}
+inline Interval& operator-=(Interval& a, const Interval& b) {
+  return a = a - b;
+}
+inline Interval& operator*=(Interval& a, const Interval& b) {
+  return a = a * b;
+}
 
 /// Whether an operation saw its whole argument inside its domain.
 enum class Domain : unsigned char {

@@ -23,11 +23,15 @@ struct Vec3 {
   friend bool operator==(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 };
 
-inline double dot(Vec3 a, Vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double dot(Vec3 a, Vec3 b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
 inline Vec3 cross(Vec3 a, Vec3 b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-inline double length(Vec3 a) { return std::sqrt(dot(a, a)); }
+inline double length(Vec3 a) {
+  return std::sqrt(dot(a, a));
+}
 inline Vec3 normalize(Vec3 a) {
   const double l = length(a);
   return l > 0 ? a / l : a;
@@ -56,8 +60,7 @@ struct IBox {
 
   IBox() = default;
   IBox(Interval x_, Interval y_, Interval z_) : x(x_), y(y_), z(z_) {}
-  explicit IBox(const Box3& b)
-      : x(b.lo.x, b.hi.x), y(b.lo.y, b.hi.y), z(b.lo.z, b.hi.z) {}
+  explicit IBox(const Box3& b) : x(b.lo.x, b.hi.x), y(b.lo.y, b.hi.y), z(b.lo.z, b.hi.z) {}
   const Interval& operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
   Interval& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
   bool is_empty() const { return x.is_empty() || y.is_empty() || z.is_empty(); }

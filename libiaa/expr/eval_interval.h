@@ -45,6 +45,8 @@ struct IntervalRules {
 class IntervalEval {
  public:
   explicit IntervalEval(const Tape& tape) : loop_(tape) {}
+  /// The evaluator keeps a pointer to its tape, which must outlive it.
+  explicit IntervalEval(Tape&&) = delete;
 
   Interval eval(const IBox& b) {
     if (!rounding_is_upward()) {

@@ -21,7 +21,9 @@ namespace detail {
 struct IntervalGradRules {
   using Num = IGrad;
   static constexpr bool kTracksChoices = false;
-  static IGrad constant(double v) { return {Interval(v), {Interval(0.0), Interval(0.0), Interval(0.0)}}; }
+  static IGrad constant(double v) {
+    return {Interval(v), {Interval(0.0), Interval(0.0), Interval(0.0)}};
+  }
   static IGrad add(const IGrad& a, const IGrad& b);
   static IGrad sub(const IGrad& a, const IGrad& b);
   static IGrad mul(const IGrad& a, const IGrad& b);
@@ -47,6 +49,8 @@ struct IntervalGradRules {
 class IntervalGradEval {
  public:
   explicit IntervalGradEval(const Tape& tape) : loop_(tape) {}
+  /// The evaluator keeps a pointer to its tape, which must outlive it.
+  explicit IntervalGradEval(Tape&&) = delete;
   IGrad eval(const IBox& b) {
     if (!rounding_is_upward()) {
       RoundingScope scope;

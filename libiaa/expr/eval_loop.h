@@ -17,7 +17,8 @@ class TapeLoop {
  public:
   using Num = typename Rules::Num;
 
-  explicit TapeLoop(const Tape& tape) : tape_(&tape), slots_(static_cast<std::size_t>(tape.size())) {
+  explicit TapeLoop(const Tape& tape)
+      : tape_(&tape), slots_(static_cast<std::size_t>(tape.size())) {
     const auto consts = tape.constants();
     for (int i = 3; i < tape.first_op(); ++i) {
       slots_[static_cast<std::size_t>(i)] = Rules::constant(consts[static_cast<std::size_t>(i)]);
@@ -44,35 +45,74 @@ class TapeLoop {
       const Num& a = s[in.a];
       Num& o = s[i];
       switch (in.op) {
-        case Op::kAdd: o = Rules::add(a, s[in.b]); break;
-        case Op::kSub: o = Rules::sub(a, s[in.b]); break;
-        case Op::kMul: o = Rules::mul(a, s[in.b]); break;
-        case Op::kDiv: o = Rules::div(a, s[in.b], &dom_); break;
-        case Op::kNeg: o = Rules::neg(a); break;
-        case Op::kPowInt: o = Rules::pow_int(a, in.power); break;
-        case Op::kPow: o = Rules::pow(a, s[in.b], &dom_); break;
-        case Op::kSquare: o = Rules::square(a); break;
-        case Op::kSqrt: o = Rules::sqrt(a, &dom_); break;
-        case Op::kExp: o = Rules::exp(a); break;
-        case Op::kLog: o = Rules::log(a, &dom_); break;
-        case Op::kSin: o = Rules::sin(a); break;
-        case Op::kCos: o = Rules::cos(a); break;
-        case Op::kTan: o = Rules::tan(a, &dom_); break;
-        case Op::kAtan: o = Rules::atan(a); break;
-        case Op::kAbs: o = Rules::abs(a); break;
-        case Op::kMin: o = Rules::min(a, s[in.b], choice(i)); break;
-        case Op::kMax: o = Rules::max(a, s[in.b], choice(i)); break;
+        case Op::kAdd:
+          o = Rules::add(a, s[in.b]);
+          break;
+        case Op::kSub:
+          o = Rules::sub(a, s[in.b]);
+          break;
+        case Op::kMul:
+          o = Rules::mul(a, s[in.b]);
+          break;
+        case Op::kDiv:
+          o = Rules::div(a, s[in.b], &dom_);
+          break;
+        case Op::kNeg:
+          o = Rules::neg(a);
+          break;
+        case Op::kPowInt:
+          o = Rules::pow_int(a, in.power);
+          break;
+        case Op::kPow:
+          o = Rules::pow(a, s[in.b], &dom_);
+          break;
+        case Op::kSquare:
+          o = Rules::square(a);
+          break;
+        case Op::kSqrt:
+          o = Rules::sqrt(a, &dom_);
+          break;
+        case Op::kExp:
+          o = Rules::exp(a);
+          break;
+        case Op::kLog:
+          o = Rules::log(a, &dom_);
+          break;
+        case Op::kSin:
+          o = Rules::sin(a);
+          break;
+        case Op::kCos:
+          o = Rules::cos(a);
+          break;
+        case Op::kTan:
+          o = Rules::tan(a, &dom_);
+          break;
+        case Op::kAtan:
+          o = Rules::atan(a);
+          break;
+        case Op::kAbs:
+          o = Rules::abs(a);
+          break;
+        case Op::kMin:
+          o = Rules::min(a, s[in.b], choice(i));
+          break;
+        case Op::kMax:
+          o = Rules::max(a, s[in.b], choice(i));
+          break;
         case Op::kVarX:
         case Op::kVarY:
         case Op::kVarZ:
-        case Op::kConst: break;  // never after first_op
+        case Op::kConst:
+          break;  // never after first_op
       }
     }
     return s[tape_->root()];
   }
 
  private:
-  std::uint8_t* choice(int i) { return Rules::kTracksChoices ? &choices_[static_cast<std::size_t>(i)] : nullptr; }
+  std::uint8_t* choice(int i) {
+    return Rules::kTracksChoices ? &choices_[static_cast<std::size_t>(i)] : nullptr;
+  }
 
   const Tape* tape_;
   std::vector<Num> slots_;

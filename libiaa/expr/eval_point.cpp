@@ -10,7 +10,7 @@ namespace iaa::detail {
 // Binary powering in the same order of multiplications as Boost's interval pow, so that the point
 // value is bracketed by the interval bounds step by step.
 double PointRules::pow_int(double a, int n) {
-  if (n == 0) return 1.0;
+  if (n == 0) return a == a ? 1.0 : a;  // x^0 = 1 wherever x is defined
   double x = std::fabs(a);
   double y = (n & 1) ? x : 1.0;
   for (int p = n >> 1; p > 0; p >>= 1) {
@@ -20,33 +20,51 @@ double PointRules::pow_int(double a, int n) {
   return (a < 0.0 && (n & 1)) ? -y : y;
 }
 
-// Real power, defined for a >= 0 only (as the interval rule): x^2.5 at x = -1 is NaN.
+// Real power exp(b log a), defined for a > 0, and at a = 0 for b > 0 (as the interval rule):
+// x^2.5 at x = -1 and 0^0 are undefined (NaN).
 double PointRules::pow(double a, double b, Domain*) {
-  if (a < 0.0) return std::numeric_limits<double>::quiet_NaN();
+  if (a != a || a < 0.0 || (a == 0.0 && !(b > 0.0)) || b != b)
+    return std::numeric_limits<double>::quiet_NaN();
   return std::pow(a, b);
 }
-double PointRules::sqrt(double a, Domain*) { return std::sqrt(a); }
-double PointRules::exp(double a) { return std::exp(a); }
-double PointRules::log(double a, Domain*) { return std::log(a); }
-double PointRules::sin(double a) { return std::sin(a); }
-double PointRules::cos(double a) { return std::cos(a); }
-double PointRules::tan(double a, Domain*) { return std::tan(a); }
-double PointRules::atan(double a) { return std::atan(a); }
-double PointRules::abs(double a) { return std::fabs(a); }
+double PointRules::sqrt(double a, Domain*) {
+  return std::sqrt(a);
+}
+double PointRules::exp(double a) {
+  return std::exp(a);
+}
+double PointRules::log(double a, Domain*) {
+  return a > 0.0 ? std::log(a) : std::numeric_limits<double>::quiet_NaN();
+}
+double PointRules::sin(double a) {
+  return std::sin(a);
+}
+double PointRules::cos(double a) {
+  return std::cos(a);
+}
+double PointRules::tan(double a, Domain*) {
+  return std::tan(a);
+}
+double PointRules::atan(double a) {
+  return std::atan(a);
+}
+double PointRules::abs(double a) {
+  return std::fabs(a);
+}
 
-PGrad PointGradRules::div(const PGrad& a, const PGrad& b, Domain*) {
-  const double v = a.v / b.v;
+PGrad PointGradRules::div(const PGrad& a, const PGrad& b, Domain* d) {
+  const double v = PointRules::div(a.v, b.v, d);
   return {v, (a.g - b.g * v) / b.v};
 }
 PGrad PointGradRules::pow_int(const PGrad& a, int n) {
-  if (n == 0) return {1.0, {}};
+  if (n == 0) return {PointRules::pow_int(a.v, 0), {}};
   return {PointRules::pow_int(a.v, n), a.g * (n * PointRules::pow_int(a.v, n - 1))};
 }
 PGrad PointGradRules::pow(const PGrad& a, const PGrad& b, Domain* d) {
   const double v = PointRules::pow(a.v, b.v, d);
   // d(a^b) = b a^(b-1) da + a^b log(a) db; the second term only where b varies.
   Vec3 g = a.g * (b.v * PointRules::pow(a.v, b.v - 1.0, d));
-  const double l = std::log(a.v);
+  const double l = PointRules::log(a.v, d);
   for (int i = 0; i < 3; ++i) {
     if (b.g[i] != 0.0) g[i] += v * l * b.g[i];
   }
@@ -60,9 +78,15 @@ PGrad PointGradRules::exp(const PGrad& a) {
   const double v = std::exp(a.v);
   return {v, a.g * v};
 }
-PGrad PointGradRules::log(const PGrad& a, Domain*) { return {std::log(a.v), a.g / a.v}; }
-PGrad PointGradRules::sin(const PGrad& a) { return {std::sin(a.v), a.g * std::cos(a.v)}; }
-PGrad PointGradRules::cos(const PGrad& a) { return {std::cos(a.v), a.g * -std::sin(a.v)}; }
+PGrad PointGradRules::log(const PGrad& a, Domain* d) {
+  return {PointRules::log(a.v, d), a.g / a.v};
+}
+PGrad PointGradRules::sin(const PGrad& a) {
+  return {std::sin(a.v), a.g * std::cos(a.v)};
+}
+PGrad PointGradRules::cos(const PGrad& a) {
+  return {std::cos(a.v), a.g * -std::sin(a.v)};
+}
 PGrad PointGradRules::tan(const PGrad& a, Domain*) {
   const double v = std::tan(a.v);
   return {v, a.g * (1.0 + v * v)};
@@ -70,6 +94,8 @@ PGrad PointGradRules::tan(const PGrad& a, Domain*) {
 PGrad PointGradRules::atan(const PGrad& a) {
   return {std::atan(a.v), a.g / (1.0 + a.v * a.v)};
 }
-PGrad PointGradRules::abs(const PGrad& a) { return a.v < 0.0 ? neg(a) : a; }
+PGrad PointGradRules::abs(const PGrad& a) {
+  return a.v < 0.0 ? neg(a) : a;
+}
 
 }  // namespace iaa::detail

@@ -3,6 +3,8 @@
 // surface here".
 #pragma once
 
+#include <limits>
+
 #include "core/vec.h"
 #include "expr/eval_loop.h"
 
@@ -16,7 +18,11 @@ struct PointRules {
   static double add(double a, double b) { return a + b; }
   static double sub(double a, double b) { return a - b; }
   static double mul(double a, double b) { return a * b; }
-  static double div(double a, double b, Domain*) { return a / b; }
+  // A pole (division by exactly 0, log of 0) is undefined, NaN, as in the interval rules; IEEE's
+  // infinities would turn finite again downstream (atan(1/0) = pi/2) where intervals say empty.
+  static double div(double a, double b, Domain*) {
+    return b == 0.0 ? std::numeric_limits<double>::quiet_NaN() : a / b;
+  }
   static double neg(double a) { return -a; }
   static double pow_int(double a, int n);
   static double pow(double a, double b, Domain*);
@@ -29,8 +35,10 @@ struct PointRules {
   static double tan(double a, Domain*);
   static double atan(double a);
   static double abs(double a);
-  static double min(double a, double b, std::uint8_t*) { return b < a ? b : a; }
-  static double max(double a, double b, std::uint8_t*) { return b > a ? b : a; }
+  // An undefined argument makes the result undefined (NaN), as in the interval rules: f is
+  // defined only where every subexpression is.
+  static double min(double a, double b, std::uint8_t*) { return (b < a || b != b) ? b : a; }
+  static double max(double a, double b, std::uint8_t*) { return (b > a || b != b) ? b : a; }
 };
 }  // namespace detail
 
@@ -38,6 +46,8 @@ struct PointRules {
 class PointEval {
  public:
   explicit PointEval(const Tape& tape) : loop_(tape) {}
+  /// The evaluator keeps a pointer to its tape, which must outlive it.
+  explicit PointEval(Tape&&) = delete;
   double eval(double x, double y, double z) { return loop_.run(x, y, z); }
   double eval(const Vec3& p) { return loop_.run(p.x, p.y, p.z); }
   const Tape& tape() const { return loop_.tape(); }

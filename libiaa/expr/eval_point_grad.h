@@ -34,8 +34,12 @@ struct PointGradRules {
   static PGrad tan(const PGrad& a, Domain*);
   static PGrad atan(const PGrad& a);
   static PGrad abs(const PGrad& a);
-  static PGrad min(const PGrad& a, const PGrad& b, std::uint8_t*) { return b.v < a.v ? b : a; }
-  static PGrad max(const PGrad& a, const PGrad& b, std::uint8_t*) { return b.v > a.v ? b : a; }
+  static PGrad min(const PGrad& a, const PGrad& b, std::uint8_t*) {
+    return (b.v < a.v || b.v != b.v) ? b : a;
+  }
+  static PGrad max(const PGrad& a, const PGrad& b, std::uint8_t*) {
+    return (b.v > a.v || b.v != b.v) ? b : a;
+  }
 };
 }  // namespace detail
 
@@ -43,6 +47,8 @@ struct PointGradRules {
 class PointGradEval {
  public:
   explicit PointGradEval(const Tape& tape) : loop_(tape) {}
+  /// The evaluator keeps a pointer to its tape, which must outlive it.
+  explicit PointGradEval(Tape&&) = delete;
   PGrad eval(const Vec3& p) {
     return loop_.run({p.x, {1, 0, 0}}, {p.y, {0, 1, 0}}, {p.z, {0, 0, 1}});
   }

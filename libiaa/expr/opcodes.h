@@ -11,28 +11,28 @@
 
 namespace iaa {
 
-#define IAA_OPCODES(X)           \
-  X(kVarX, "x", 0, false)        \
-  X(kVarY, "y", 0, false)        \
-  X(kVarZ, "z", 0, false)        \
-  X(kConst, "const", 0, false)   \
-  X(kAdd, "add", 2, false)       \
-  X(kSub, "sub", 2, false)       \
-  X(kMul, "mul", 2, false)       \
-  X(kDiv, "div", 2, false)       \
-  X(kNeg, "neg", 1, false)       \
-  X(kPowInt, "powi", 1, false)   \
-  X(kPow, "pow", 2, true)        \
-  X(kSquare, "square", 1, true)  \
-  X(kSqrt, "sqrt", 1, true)      \
-  X(kExp, "exp", 1, true)        \
-  X(kLog, "log", 1, true)        \
-  X(kSin, "sin", 1, true)        \
-  X(kCos, "cos", 1, true)        \
-  X(kTan, "tan", 1, true)        \
-  X(kAtan, "atan", 1, true)      \
-  X(kAbs, "abs", 1, true)        \
-  X(kMin, "min", 2, true)        \
+#define IAA_OPCODES(X)          \
+  X(kVarX, "x", 0, false)       \
+  X(kVarY, "y", 0, false)       \
+  X(kVarZ, "z", 0, false)       \
+  X(kConst, "const", 0, false)  \
+  X(kAdd, "add", 2, false)      \
+  X(kSub, "sub", 2, false)      \
+  X(kMul, "mul", 2, false)      \
+  X(kDiv, "div", 2, false)      \
+  X(kNeg, "neg", 1, false)      \
+  X(kPowInt, "powi", 1, false)  \
+  X(kPow, "pow", 2, true)       \
+  X(kSquare, "square", 1, true) \
+  X(kSqrt, "sqrt", 1, true)     \
+  X(kExp, "exp", 1, true)       \
+  X(kLog, "log", 1, true)       \
+  X(kSin, "sin", 1, true)       \
+  X(kCos, "cos", 1, true)       \
+  X(kTan, "tan", 1, true)       \
+  X(kAtan, "atan", 1, true)     \
+  X(kAbs, "abs", 1, true)       \
+  X(kMin, "min", 2, true)       \
   X(kMax, "max", 2, true)
 
 /// An operation of the expression language.
@@ -57,7 +57,9 @@ inline constexpr OpInfo kOpInfo[] = {
 
 inline constexpr int kOpCount = sizeof(kOpInfo) / sizeof(kOpInfo[0]);
 
-inline const OpInfo& info(Op op) { return kOpInfo[static_cast<int>(op)]; }
+inline const OpInfo& info(Op op) {
+  return kOpInfo[static_cast<int>(op)];
+}
 
 /// True for operations whose arguments can be swapped (merged as one node either way).
 inline bool is_commutative(Op op) {

@@ -14,7 +14,19 @@ namespace iaa {
 
 namespace {
 
-enum class Tok { kNumber, kName, kPlus, kMinus, kStar, kSlash, kCaret, kLParen, kRParen, kComma, kEnd };
+enum class Tok {
+  kNumber,
+  kName,
+  kPlus,
+  kMinus,
+  kStar,
+  kSlash,
+  kCaret,
+  kLParen,
+  kRParen,
+  kComma,
+  kEnd
+};
 
 struct Token {
   Tok kind;
@@ -63,9 +75,8 @@ class Lexer {
     static constexpr struct {
       char c;
       Tok kind;
-    } kPunct[] = {{'+', Tok::kPlus},   {'-', Tok::kMinus},  {'*', Tok::kStar},
-                  {'/', Tok::kSlash},  {'^', Tok::kCaret},  {'(', Tok::kLParen},
-                  {')', Tok::kRParen}, {',', Tok::kComma}};
+    } kPunct[] = {{'+', Tok::kPlus},  {'-', Tok::kMinus},  {'*', Tok::kStar},   {'/', Tok::kSlash},
+                  {'^', Tok::kCaret}, {'(', Tok::kLParen}, {')', Tok::kRParen}, {',', Tok::kComma}};
     for (const auto& p : kPunct) {
       if (c == p.c) {
         advance();
@@ -128,7 +139,8 @@ class Lexer {
         while (pos_ < look) advance();
         digits();
       } else {
-        throw ParseError("expected digits after the exponent mark in a number", line_, col_ + 1);
+        throw ParseError("expected digits after the exponent mark in a number", line_,
+                         col_ + static_cast<int>(look - pos_));
       }
     }
     t->kind = Tok::kNumber;
@@ -149,7 +161,9 @@ class Lexer {
 
 constexpr double kTwo53 = 9007199254740992.0;
 
-bool is_exact_int(double v) { return std::floor(v) == v && std::fabs(v) <= kTwo53; }
+bool is_exact_int(double v) {
+  return std::floor(v) == v && std::fabs(v) <= kTwo53;
+}
 
 std::optional<Op> function_op(std::string_view name) {
   for (int i = 0; i < kOpCount; ++i) {
@@ -180,7 +194,8 @@ class Parser {
   }
   void eat() { tok_ = lex_.next(); }
   void expect(Tok kind, const char* what) {
-    if (tok_.kind != kind) throw error(std::string("expected ") + what + ", found " + describe(tok_));
+    if (tok_.kind != kind)
+      throw error(std::string("expected ") + what + ", found " + describe(tok_));
     eat();
   }
 
@@ -201,7 +216,10 @@ class Parser {
     double va, vb;
     if (dag_.is_constant(a, &va) && dag_.is_constant(b, &vb) && is_exact_int(va) &&
         is_exact_int(vb)) {
-      const double r = op == Op::kAdd ? va + vb : op == Op::kSub ? va - vb : op == Op::kMul ? va * vb : NAN;
+      const double r = op == Op::kAdd   ? va + vb
+                       : op == Op::kSub ? va - vb
+                       : op == Op::kMul ? va * vb
+                                        : NAN;
       if (op != Op::kDiv && is_exact_int(r)) return dag_.constant(r);
     }
     return dag_.binary(op, a, b);
@@ -244,8 +262,9 @@ class Parser {
     Nest nest(this);
     eat();
     if (tok_.kind == Tok::kMinus || tok_.kind == Tok::kPlus) {
-      throw error("a sign cannot follow '^' directly; put a negative exponent in parentheses, "
-                  "as in x^(-3)");
+      throw error(
+          "a sign cannot follow '^' directly; put a negative exponent in parentheses, "
+          "as in x^(-3)");
     }
     const Token at = tok_;
     const NodeId e = power();  // right-associative
@@ -303,7 +322,8 @@ class Parser {
     const std::string_view n = t.text;
     const bool call = tok_.kind == Tok::kLParen;
     if (auto op = function_op(n)) {
-      if (!call) throw error_at(t, std::string(n) + " is a function: write " + std::string(n) + "(...)");
+      if (!call)
+        throw error_at(t, std::string(n) + " is a function: write " + std::string(n) + "(...)");
       return call_function(t, *op);
     }
     if (call) throw error_at(t, "'" + std::string(n) + "' is not a function");

@@ -75,16 +75,36 @@ std::string Tape::to_text() const {
     auto A = [&] { return s[static_cast<std::size_t>(in.a)]; };
     auto B = [&] { return s[static_cast<std::size_t>(in.b)]; };
     switch (in.op) {
-      case Op::kVarX: s[i] = "x"; break;
-      case Op::kVarY: s[i] = "y"; break;
-      case Op::kVarZ: s[i] = "z"; break;
-      case Op::kConst: s[i] = format_number(constants_[i]); break;
-      case Op::kAdd: s[i] = "(" + A() + " + " + B() + ")"; break;
-      case Op::kSub: s[i] = "(" + A() + " - " + B() + ")"; break;
-      case Op::kMul: s[i] = "(" + A() + " * " + B() + ")"; break;
-      case Op::kDiv: s[i] = "(" + A() + " / " + B() + ")"; break;
-      case Op::kNeg: s[i] = "(-" + A() + ")"; break;
-      case Op::kPowInt: s[i] = "(" + A() + "^" + std::to_string(in.power) + ")"; break;
+      case Op::kVarX:
+        s[i] = "x";
+        break;
+      case Op::kVarY:
+        s[i] = "y";
+        break;
+      case Op::kVarZ:
+        s[i] = "z";
+        break;
+      case Op::kConst:
+        s[i] = format_number(constants_[i]);
+        break;
+      case Op::kAdd:
+        s[i] = "(" + A() + " + " + B() + ")";
+        break;
+      case Op::kSub:
+        s[i] = "(" + A() + " - " + B() + ")";
+        break;
+      case Op::kMul:
+        s[i] = "(" + A() + " * " + B() + ")";
+        break;
+      case Op::kDiv:
+        s[i] = "(" + A() + " / " + B() + ")";
+        break;
+      case Op::kNeg:
+        s[i] = "(-" + A() + ")";
+        break;
+      case Op::kPowInt:
+        s[i] = "(" + A() + "^" + std::to_string(in.power) + ")";
+        break;
       default: {
         const OpInfo& inf = info(in.op);
         s[i] = std::string(inf.text) + "(" + A() + (inf.arity == 2 ? ", " + B() : "") + ")";

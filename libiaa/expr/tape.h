@@ -21,8 +21,8 @@ namespace iaa {
 /// One instruction; its output is the slot with the instruction's own index.
 struct Instr {
   Op op;
-  std::int32_t a = -1;  ///< first argument slot
-  std::int32_t b = -1;  ///< second argument slot
+  std::int32_t a = -1;     ///< first argument slot
+  std::int32_t b = -1;     ///< second argument slot
   std::int32_t power = 0;  ///< exponent of kPowInt
 };
 

@@ -39,9 +39,11 @@ void write_atomically(const std::string& path,
   }
   if (fs::is_directory(target, ec)) throw Error("cannot write '" + path + "': it is a directory");
   // Keep the extension last: some writers (VTK, OpenMesh) choose the format from it.
-  const std::string tmp = (dir / ("." + target.stem().string() + ".tmp" +
-                                  std::to_string(::getpid()) + target.extension().string()))
-                              .string();
+  // Built with append rather than "." + ...: GCC 12 warns falsely (-Wrestrict, PR 105651).
+  std::string name(1, '.');
+  name.append(target.stem().string()).append(".tmp").append(std::to_string(::getpid()));
+  name.append(target.extension().string());
+  const std::string tmp = (dir / name).string();
   try {
     write(tmp);
     if (!fs::exists(tmp, ec)) throw Error("writing '" + path + "' produced no file");

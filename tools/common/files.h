@@ -14,7 +14,8 @@ std::string read_file(const std::string& path);
 /// Calls write(tmp_path) to produce the file, then renames tmp_path to `path`. On any exception
 /// the temporary file is removed and the exception propagates. Fails early, with a message naming
 /// the path, when the target directory does not exist or is not writable.
-void write_atomically(const std::string& path, const std::function<void(const std::string&)>& write);
+void write_atomically(const std::string& path,
+                      const std::function<void(const std::string&)>& write);
 
 /// Writes `contents` to `path` atomically.
 void write_text_atomically(const std::string& path, const std::string& contents);

@@ -16,7 +16,9 @@ struct Image8 {
   Image8() = default;
   Image8(int w, int h, int c) : width(w), height(h), channels(c), data(std::size_t(w) * h * c, 0) {}
   std::uint8_t* at(int x, int y) { return &data[(std::size_t(y) * width + x) * channels]; }
-  const std::uint8_t* at(int x, int y) const { return &data[(std::size_t(y) * width + x) * channels]; }
+  const std::uint8_t* at(int x, int y) const {
+    return &data[(std::size_t(y) * width + x) * channels];
+  }
 };
 
 /// Writes the image as PNG; throws iaa::Error naming the path on failure.

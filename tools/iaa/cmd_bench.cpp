@@ -25,7 +25,8 @@ void setup(CLI::App& app) {
       "  iaa bench tape --json tape.json");
 }
 
-CommandRegistrar reg{{"bench", "measure speed (medians, ratios against a baseline of the same run)", 90, setup}};
+CommandRegistrar reg{
+    {"bench", "measure speed (medians, ratios against a baseline of the same run)", 90, setup}};
 
 }  // namespace
 }  // namespace iaa::cli

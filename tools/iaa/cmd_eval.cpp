@@ -42,51 +42,9 @@ Params parse_params(const std::vector<std::string>& items) {
     }
     const std::string name = item.substr(0, eq);
     const std::string value = item.substr(eq + 1);
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(value, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used == 0 || used != value.size() || !std::isfinite(v)) {
-      throw Error("--param " + name + ": '" + value + "' is not a finite number");
-    }
-    p[name] = v;
+    p[name] = parse_double(value, "--param " + name);
   }
   return p;
-}
-
-IBox parse_box(const std::string& text) {
-  std::stringstream ss(text);
-  std::string axis;
-  IBox box;
-  int i = 0;
-  static const char* kNames[3] = {"x", "y", "z"};
-  while (std::getline(ss, axis, ',')) {
-    if (i == 3) throw Error("--box: expected three ranges X0:X1,Y0:Y1,Z0:Z1, got '" + text + "'");
-    const auto colon = axis.find(':', 1);
-    if (colon == std::string::npos) {
-      throw Error(std::string("--box: range for ") + kNames[i] + " must be LO:HI, got '" + axis + "'");
-    }
-    double lo = 0, hi = 0;
-    std::size_t u1 = 0, u2 = 0;
-    try {
-      lo = std::stod(axis.substr(0, colon), &u1);
-      hi = std::stod(axis.substr(colon + 1), &u2);
-    } catch (...) {
-      u1 = 0;
-    }
-    if (u1 != colon || u2 != axis.size() - colon - 1 || !std::isfinite(lo) || !std::isfinite(hi)) {
-      throw Error(std::string("--box: range for ") + kNames[i] + " must be two finite numbers LO:HI, got '" + axis + "'");
-    }
-    if (lo > hi) {
-      throw Error(std::string("--box: range for ") + kNames[i] + " is inverted (" + fmt(lo) + " > " + fmt(hi) + ")");
-    }
-    box[i++] = Interval(lo, hi);
-  }
-  if (i != 3) throw Error("--box: expected three ranges X0:X1,Y0:Y1,Z0:Z1, got '" + text + "'");
-  return box;
 }
 
 void run(const EvalOptions& o) {
@@ -103,26 +61,32 @@ void run(const EvalOptions& o) {
     std::printf("\nat (%s, %s, %s)\n", fmt(p[0]).c_str(), fmt(p[1]).c_str(), fmt(p[2]).c_str());
     if (std::isfinite(v)) {
       std::printf("  f       = %s\n", fmt(v).c_str());
-      std::printf("  grad f  = (%s, %s, %s)\n", fmt(g.g.x).c_str(), fmt(g.g.y).c_str(), fmt(g.g.z).c_str());
+      std::printf("  grad f  = (%s, %s, %s)\n", fmt(g.g.x).c_str(), fmt(g.g.y).c_str(),
+                  fmt(g.g.z).c_str());
     } else {
       std::printf("  f       = undefined here (%s)\n", fmt(v).c_str());
     }
   }
   if (!o.box.empty()) {
-    const IBox box = parse_box(o.box);
+    const IBox box(parse_box(o.box, "--box"));
     RoundingScope scope;
     IntervalEval ie(tape);
     IntervalGradEval ig(tape);
     const Interval v = ie.eval(box);
     const bool partial = ie.partial_domain();
     const IGrad g = ig.eval(box);
-    std::printf("\nover %s x %s x %s\n", fmt(box.x).c_str(), fmt(box.y).c_str(), fmt(box.z).c_str());
-    std::printf("  F       = %s%s\n", fmt(v).c_str(), partial ? "  (partial domain: f is undefined or has a pole somewhere in the box)" : "");
-    std::printf("  grad F  = (%s, %s, %s)\n", fmt(g.g[0]).c_str(), fmt(g.g[1]).c_str(), fmt(g.g[2]).c_str());
+    std::printf("\nover %s x %s x %s\n", fmt(box.x).c_str(), fmt(box.y).c_str(),
+                fmt(box.z).c_str());
+    std::printf(
+        "  F       = %s%s\n", fmt(v).c_str(),
+        partial ? "  (partial domain: f is undefined or has a pole somewhere in the box)" : "");
+    std::printf("  grad F  = (%s, %s, %s)\n", fmt(g.g[0]).c_str(), fmt(g.g[1]).c_str(),
+                fmt(g.g[2]).c_str());
     if (v.is_empty()) {
       std::printf("  verdict   certified empty: f is undefined everywhere in the box\n");
     } else if (!v.contains_zero()) {
-      std::printf("  verdict   certified empty: 0 is not in F, the box holds no point of the surface\n");
+      std::printf(
+          "  verdict   certified empty: 0 is not in F, the box holds no point of the surface\n");
     } else {
       std::printf("  verdict   possible: 0 is in F, the box may hold part of the surface\n");
     }
@@ -131,7 +95,8 @@ void run(const EvalOptions& o) {
 
 void setup(CLI::App& app) {
   auto opts = std::make_shared<EvalOptions>();
-  app.add_option("expr", opts->expr, "the expression f(x,y,z), e.g. 'x^2 + y^2 + z^2 - 1'")->required();
+  app.add_option("expr", opts->expr, "the expression f(x,y,z), e.g. 'x^2 + y^2 + z^2 - 1'")
+      ->required();
   app.add_option("--at", opts->at, "evaluate f and its gradient at the point X,Y,Z");
   app.add_option("--box", opts->box, "evaluate F and its interval gradient over X0:X1,Y0:Y1,Z0:Z1");
   app.add_option("-p,--param", opts->params, "a named parameter NAME=VALUE (repeatable)");
@@ -144,7 +109,8 @@ void setup(CLI::App& app) {
   app.callback([opts] { run(*opts); });
 }
 
-CommandRegistrar reg{{"eval", "evaluate an expression at a point or over a box, print its tape", 10, setup}};
+CommandRegistrar reg{
+    {"eval", "evaluate an expression at a point or over a box, print its tape", 10, setup}};
 
 }  // namespace
 }  // namespace iaa::cli

@@ -6,9 +6,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "core/vec.h"
 
 namespace iaa::cli {
 
@@ -24,6 +27,13 @@ std::vector<Command>& commands();
 struct CommandRegistrar {
   explicit CommandRegistrar(Command c) { commands().push_back(std::move(c)); }
 };
+
+/// Parses one finite number (subnormals included); throws iaa::Error naming `what` on failure.
+double parse_double(const std::string& text, const std::string& what);
+
+/// Parses a box "X0:X1,Y0:Y1,Z0:Z1" of finite numbers with LO <= HI on every axis; throws
+/// iaa::Error naming `what` and the axis on failure.
+Box3 parse_box(const std::string& text, const std::string& what);
 
 /// Parses "a,b,c" into three doubles; throws iaa::Error naming `what` on failure.
 std::array<double, 3> parse_triple(const std::string& text, const std::string& what);

@@ -14,56 +14,13 @@ std::vector<Command>& commands() {
   return all;
 }
 
-namespace {
-std::vector<std::string> split(const std::string& text) {
-  std::vector<std::string> parts;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) parts.push_back(item);
-  if (!text.empty() && text.back() == ',') parts.push_back("");
-  return parts;
-}
-double to_double(const std::string& s, const std::string& what) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used == 0 || used != s.size() || !std::isfinite(v)) {
-    throw Error(what + ": '" + s + "' is not a finite number");
-  }
-  return v;
-}
-}  // namespace
-
-std::array<double, 3> parse_triple(const std::string& text, const std::string& what) {
-  const auto parts = split(text);
-  if (parts.size() != 3) throw Error(what + ": expected three numbers X,Y,Z, got '" + text + "'");
-  return {to_double(parts[0], what), to_double(parts[1], what), to_double(parts[2], what)};
-}
-
-std::array<int, 2> parse_int_pair(const std::string& text, const std::string& what) {
-  const auto parts = split(text);
-  if (parts.size() != 2) throw Error(what + ": expected two integers X,Y, got '" + text + "'");
-  std::array<int, 2> out{};
-  for (int i = 0; i < 2; ++i) {
-    const double v = to_double(parts[static_cast<std::size_t>(i)], what);
-    if (v != std::floor(v) || std::fabs(v) > 1e9) {
-      throw Error(what + ": '" + parts[static_cast<std::size_t>(i)] + "' is not an integer");
-    }
-    out[static_cast<std::size_t>(i)] = static_cast<int>(v);
-  }
-  return out;
-}
-
 }  // namespace iaa::cli
 
 int main(int argc, char** argv) {
   using namespace iaa::cli;
-  CLI::App app{"iaa: guaranteed ray tracing, enclosure, meshing and inspection of implicit "
-               "surfaces f(x,y,z) = 0 with interval arithmetic"};
+  CLI::App app{
+      "iaa: guaranteed ray tracing, enclosure, meshing and inspection of implicit "
+      "surfaces f(x,y,z) = 0 with interval arithmetic"};
   app.require_subcommand(1);
   app.footer(
       "Examples:\n"
@@ -71,7 +28,8 @@ int main(int argc, char** argv) {
       "  iaa render data/scenes/teardrop.toml -o teardrop.png\n"
       "Run 'iaa COMMAND --help' for the options of one command.");
   auto& cmds = commands();
-  std::sort(cmds.begin(), cmds.end(), [](const Command& a, const Command& b) { return a.order < b.order; });
+  std::sort(cmds.begin(), cmds.end(),
+            [](const Command& a, const Command& b) { return a.order < b.order; });
   for (const Command& c : cmds) {
     CLI::App* sub = app.add_subcommand(c.name, c.summary);
     c.setup(*sub);
@@ -81,7 +39,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   } catch (const iaa::Error& e) {
-    const std::string cmd = app.get_subcommands().empty() ? "iaa" : "iaa " + app.get_subcommands()[0]->get_name();
+    const std::string cmd =
+        app.get_subcommands().empty() ? "iaa" : "iaa " + app.get_subcommands()[0]->get_name();
     std::fprintf(stderr, "%s: error: %s\n", cmd.c_str(), e.what());
     return 1;
   } catch (const std::bad_alloc&) {

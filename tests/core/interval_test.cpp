@@ -1,0 +1,155 @@
+// Edge cases of Interval, one per documented rule in interval.h.
+#include "core/interval.h"
+
+#include <gtest/gtest.h>
+
+#include <cfloat>
+#include <cmath>
+#include <numbers>
+
+namespace iaa {
+namespace {
+
+constexpr double kInf = Interval::kInf;
+
+class IntervalTest : public ::testing::Test {
+ protected:
+  RoundingScope scope_;
+  Domain dom_ = Domain::kFull;
+};
+
+TEST_F(IntervalTest, IntegerPowersAreTight) {
+  EXPECT_EQ(square(Interval(-2, 1)), Interval(0, 4));
+  EXPECT_EQ(pow_int(Interval(-2, 1), 2), Interval(0, 4));
+  EXPECT_EQ(pow_int(Interval(-2, 1), 3), Interval(-8, 1));
+  EXPECT_EQ(pow_int(Interval(-3, -2), 4), Interval(16, 81));
+  EXPECT_EQ(pow_int(Interval(-3, 5), 0), Interval(1));
+  // x*x with the same interval is not tight: the dependency problem square() avoids.
+  EXPECT_EQ(Interval(-2, 3) * Interval(-2, 3), Interval(-6, 9));
+}
+
+TEST_F(IntervalTest, DivisionAcrossZero) {
+  EXPECT_EQ(divide(Interval(1, 2), Interval(-1, 1), &dom_), Interval::whole());
+  EXPECT_EQ(dom_, Domain::kPartial);
+  dom_ = Domain::kFull;
+  const Interval half = divide(Interval(1, 2), Interval(0, 4), &dom_);
+  EXPECT_EQ(half.lo(), 0.25);
+  EXPECT_EQ(half.hi(), kInf);
+  EXPECT_EQ(dom_, Domain::kPartial);
+  EXPECT_EQ(divide(Interval(-2, -1), Interval(0, 4), &dom_), Interval(-kInf, -0.25));
+  EXPECT_EQ(divide(Interval(1, 2), Interval(-4, 0), &dom_), Interval(-kInf, -0.25));
+  EXPECT_TRUE(divide(Interval(1, 2), Interval(0, 0), &dom_).is_empty());  // undefined everywhere
+  EXPECT_EQ(divide(Interval(0, 0), Interval(-1, 1), &dom_), Interval(0));
+  dom_ = Domain::kFull;
+  EXPECT_EQ(divide(Interval(1, 2), Interval(2, 4), &dom_), Interval(0.25, 1));
+  EXPECT_EQ(dom_, Domain::kFull);
+}
+
+TEST_F(IntervalTest, DomainErrorsClampAndReport) {
+  EXPECT_EQ(sqrt(Interval(-1, 4), &dom_), Interval(0, 2));
+  EXPECT_EQ(dom_, Domain::kPartial);
+  EXPECT_TRUE(sqrt(Interval(-4, -1), &dom_).is_empty());
+  dom_ = Domain::kFull;
+  const Interval l = log(Interval(-1, 1), &dom_);
+  EXPECT_EQ(l.lo(), -kInf);
+  EXPECT_GE(l.hi(), 0.0);
+  EXPECT_EQ(dom_, Domain::kPartial);
+  EXPECT_TRUE(log(Interval(-2, 0), &dom_).is_empty());
+  dom_ = Domain::kFull;
+  EXPECT_TRUE(sqrt(Interval(0, 4), &dom_).contains(2.0));
+  EXPECT_EQ(dom_, Domain::kFull);
+}
+
+TEST_F(IntervalTest, EmptyPropagates) {
+  const Interval e = Interval::empty();
+  EXPECT_TRUE(e.is_empty());
+  EXPECT_TRUE((e + Interval(1)).is_empty());
+  EXPECT_TRUE((Interval(1) * e).is_empty());
+  EXPECT_TRUE(exp(e).is_empty());
+  EXPECT_TRUE(min(e, Interval(0)).is_empty());
+  EXPECT_FALSE(e.contains_zero());
+  EXPECT_EQ(hull(e, Interval(1, 2)), Interval(1, 2));
+}
+
+TEST_F(IntervalTest, NaNNeverEscapes) {
+  // inf - inf and NaN inputs become "anything", the sound answer.
+  const Interval big(1e308, kInf);
+  const Interval d = big - big;
+  EXPECT_FALSE(std::isnan(d.lo()));
+  EXPECT_FALSE(std::isnan(d.hi()));
+  EXPECT_EQ(d, Interval::whole());
+  EXPECT_EQ(Interval(std::nan("")), Interval::whole());
+  EXPECT_EQ(Interval(0) * Interval::whole(), Interval(0));
+  const Interval e = exp(Interval(800, 900));  // overflows: lower bound stays finite
+  EXPECT_LE(e.lo(), DBL_MAX);
+  EXPECT_EQ(e.hi(), kInf);
+}
+
+TEST_F(IntervalTest, TranscendentalsContainTheTrueValues) {
+  EXPECT_TRUE(exp(Interval(1)).contains(std::numbers::e));
+  EXPECT_LT(exp(Interval(1)).lo(), exp(Interval(1)).hi());
+  EXPECT_TRUE(log(Interval(std::numbers::e), &dom_).contains(1.0));
+  EXPECT_TRUE(atan(Interval(1)).contains(std::numbers::pi / 4));
+  EXPECT_TRUE(sin(Interval(0)).contains(0.0));
+  EXPECT_GE(atan(Interval::whole()).hi(), std::numbers::pi / 2);
+}
+
+TEST_F(IntervalTest, SinAndCosFindTheirExtrema) {
+  const Interval s = sin(Interval(1, 2));  // contains pi/2
+  EXPECT_EQ(s.hi(), 1.0);
+  EXPECT_LE(s.lo(), std::sin(1.0));
+  const Interval c = cos(Interval(3, 3.5));  // contains pi
+  EXPECT_EQ(c.lo(), -1.0);
+  const Interval small = sin(Interval(0.1, 0.2));  // monotone piece
+  EXPECT_LE(small.lo(), std::sin(0.1));
+  EXPECT_GE(small.hi(), std::sin(0.2));
+  EXPECT_LT(small.hi(), 0.21);
+  EXPECT_EQ(sin(Interval(0, 7)), Interval(-1, 1));
+  EXPECT_EQ(cos(Interval(-1e300, 1e300)), Interval(-1, 1));
+}
+
+TEST_F(IntervalTest, TanPoles) {
+  EXPECT_EQ(tan(Interval(1, 2), &dom_), Interval::whole());
+  EXPECT_EQ(dom_, Domain::kPartial);
+  dom_ = Domain::kFull;
+  const Interval t = tan(Interval(-0.5, 0.5), &dom_);
+  EXPECT_EQ(dom_, Domain::kFull);
+  EXPECT_TRUE(t.contains(std::tan(0.5)));
+}
+
+TEST_F(IntervalTest, RealPower) {
+  const Interval p = pow_real(Interval(1, 4), Interval(0.5), &dom_);
+  EXPECT_TRUE(p.contains(1.0));
+  EXPECT_TRUE(p.contains(2.0));
+  EXPECT_EQ(dom_, Domain::kFull);
+  const Interval q = pow_real(Interval(-1, 4), Interval(2.5), &dom_);
+  EXPECT_EQ(dom_, Domain::kPartial);
+  EXPECT_EQ(q.lo(), 0.0);
+  EXPECT_GE(q.hi(), 32.0);
+  EXPECT_TRUE(pow_real(Interval(-2, -1), Interval(0.5), &dom_).is_empty());
+}
+
+TEST_F(IntervalTest, AbsMinMax) {
+  EXPECT_EQ(abs(Interval(-3, 2)), Interval(0, 3));
+  EXPECT_EQ(abs(Interval(-3, -2)), Interval(2, 3));
+  EXPECT_EQ(min(Interval(0, 5), Interval(1, 2)), Interval(0, 2));
+  EXPECT_EQ(max(Interval(0, 5), Interval(1, 2)), Interval(1, 5));
+}
+
+TEST_F(IntervalTest, WideningIsOutward) {
+  EXPECT_LT(widen_down(1.0), 1.0);
+  EXPECT_GT(widen_up(1.0), 1.0);
+  EXPECT_LT(widen_down(0.0), 0.0);
+  EXPECT_EQ(widen_up(kInf), kInf);
+  EXPECT_LT(widen_down(-1e-310), -1e-310);  // subnormal
+}
+
+TEST_F(IntervalTest, MidIsInside) {
+  EXPECT_EQ(Interval(1, 3).mid(), 2.0);
+  EXPECT_TRUE(Interval(-kInf, 5).contains(Interval(-kInf, 5).mid()));
+  EXPECT_TRUE(Interval(5, kInf).contains(Interval(5, kInf).mid()));
+  EXPECT_EQ(Interval::whole().mid(), 0.0);
+}
+
+}  // namespace
+}  // namespace iaa
