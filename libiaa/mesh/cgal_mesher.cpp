@@ -1,0 +1,163 @@
+// CGAL Mesh_3 over our point evaluator; see cgal_mesher.h. This is the only Mesh_3 translation
+// unit (each costs ~60 s and ~4 GB to compile).
+#include "mesh/cgal_mesher.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Labeled_mesh_domain_3.h>
+#include <CGAL/Mesh_complex_3_in_triangulation_3.h>
+#include <CGAL/Mesh_criteria_3.h>
+#include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/make_mesh_3.h>
+
+#include <cfenv>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "expr/eval_point.h"
+
+namespace iaa {
+
+void CgalMeshSettings::validate() const {
+  if (!bounds.valid() ||
+      !(bounds.lo.x < bounds.hi.x && bounds.lo.y < bounds.hi.y && bounds.lo.z < bounds.hi.z)) {
+    throw SettingError("cgal mesh: the bounds must be a finite box with positive extent");
+  }
+  if (!(facet_angle >= 0 && facet_angle <= 30)) {
+    throw SettingError("cgal mesh: facet angle must be in [0, 30] degrees, got " +
+                       std::to_string(facet_angle));
+  }
+  if (!(facet_size > 0) || !std::isfinite(facet_size)) {
+    throw SettingError("cgal mesh: facet size must be a positive length, got " +
+                       std::to_string(facet_size));
+  }
+  if (!(facet_distance > 0) || !std::isfinite(facet_distance)) {
+    throw SettingError("cgal mesh: facet distance must be a positive length, got " +
+                       std::to_string(facet_distance));
+  }
+  if (!(relative_error >= 1e-12 && relative_error <= 1e-2)) {
+    throw SettingError("cgal mesh: relative error must be in [1e-12, 1e-2], got " +
+                       std::to_string(relative_error));
+  }
+}
+
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using FT = K::FT;
+using Point = K::Point_3;
+using Function = std::function<FT(const Point&)>;
+using MeshDomain = CGAL::Labeled_mesh_domain_3<K>;
+#ifdef CGAL_LINKED_WITH_TBB
+using Concurrency = CGAL::Parallel_tag;
+#else
+using Concurrency = CGAL::Sequential_tag;
+#endif
+using Tr = CGAL::Mesh_triangulation_3<MeshDomain, CGAL::Default, Concurrency>::type;
+using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr>;
+using Criteria = CGAL::Mesh_criteria_3<Tr>;
+
+// f bounded by the box: negative exactly where f < 0 inside the bounds. Mesh_3 calls it from TBB
+// workers, so each thread keeps its own evaluator (evaluators own scratch space).
+struct BoundedFunction {
+  const Tape* tape;
+  Box3 box;
+  FT operator()(const Point& p) const {
+    thread_local const Tape* cached = nullptr;
+    thread_local std::unique_ptr<PointEval> pe;
+    if (cached != tape || !pe) {
+      pe = std::make_unique<PointEval>(*tape);
+      cached = tape;
+    }
+    double out = 0;
+    for (int a = 0; a < 3; ++a) out = std::max({out, box.lo[a] - p[a], p[a] - box.hi[a]});
+    if (out > 0) return 1 + out;
+    const double f = pe->eval(p.x(), p.y(), p.z());
+    return std::isfinite(f) ? f : 1.0;  // undefined: outside the domain
+  }
+};
+
+}  // namespace
+
+TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& exec,
+                       CgalMeshStats* stats) {
+  s.validate();
+  const int saved = std::fegetround();
+  std::fesetround(FE_TONEAREST);
+  const Box3& b = s.bounds;
+  const Vec3 c = b.center(), half = 0.5 * b.size();
+  const double r2 = 1.0001 * dot(half, half) + 1e-300;
+  namespace params = CGAL::parameters;
+  MeshDomain domain = MeshDomain::create_implicit_mesh_domain(
+      Function(BoundedFunction{&tape, b}), K::Sphere_3(Point(c.x, c.y, c.z), r2),
+      params::relative_error_bound = s.relative_error);
+  // A surface mesh only: the volume criterion is made large so Mesh_3 does not refine cells.
+  const double diag = length(b.size());
+  Criteria criteria(params::facet_angle = s.facet_angle, params::facet_size = s.facet_size,
+                    params::facet_distance = s.facet_distance, params::cell_radius_edge_ratio = 3,
+                    params::cell_size = diag);
+  C3t3 c3t3;
+  exec.run([&] {
+    c3t3 = CGAL::make_mesh_3<C3t3>(domain, criteria, params::no_perturb(), params::no_exude());
+  });
+
+  TriangleSoup soup;
+  std::unordered_map<const void*, std::uint32_t> index;
+  auto vertex = [&](Tr::Vertex_handle v) {
+    const auto [it, fresh] = index.emplace(&*v, static_cast<std::uint32_t>(soup.vertices.size()));
+    if (fresh) {
+      const auto& p = v->point();
+      soup.vertices.push_back(
+          {CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z())});
+    }
+    return it->second;
+  };
+  const Vec3 tol = 1e-5 * b.size() + Vec3{1e-300, 1e-300, 1e-300};
+  std::uint64_t facets = 0, on_bounds = 0;
+  for (auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f) {
+    ++facets;
+    Tr::Cell_handle cell = f->first;
+    int i = f->second;
+    // Orient away from the inside cell's opposite vertex: outwards of {f < 0}, towards larger f.
+    if (!c3t3.is_in_complex(cell)) {
+      const Tr::Cell_handle n = cell->neighbor(i);
+      i = n->index(cell);
+      cell = n;
+    }
+    std::array<Tr::Vertex_handle, 3> v{cell->vertex((i + 1) & 3), cell->vertex((i + 2) & 3),
+                                       cell->vertex((i + 3) & 3)};
+    std::array<Vec3, 3> p;
+    for (int k = 0; k < 3; ++k) {
+      const auto& q = v[std::size_t(k)]->point();
+      p[std::size_t(k)] = {CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())};
+    }
+    bool bound_facet = false;
+    for (int a = 0; a < 3 && !bound_facet; ++a) {
+      for (const double plane : {b.lo[a], b.hi[a]}) {
+        if (std::fabs(p[0][a] - plane) < tol[a] && std::fabs(p[1][a] - plane) < tol[a] &&
+            std::fabs(p[2][a] - plane) < tol[a]) {
+          bound_facet = true;
+        }
+      }
+    }
+    if (bound_facet) {
+      ++on_bounds;
+      continue;
+    }
+    const auto& o = cell->vertex(i)->point();
+    const Vec3 opp{CGAL::to_double(o.x()), CGAL::to_double(o.y()), CGAL::to_double(o.z())};
+    const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
+    if (dot(n, p[0] - opp) < 0) std::swap(v[1], v[2]);
+    soup.triangles.push_back({vertex(v[0]), vertex(v[1]), vertex(v[2])});
+  }
+  if (stats) {
+    stats->facets = facets;
+    stats->bound_facets = on_bounds;
+  }
+  std::fesetround(saved);
+  return soup;
+}
+
+}  // namespace iaa

@@ -1,0 +1,43 @@
+// Numbers that describe any triangle mesh, whatever made it: size, topology (boundary and
+// non-manifold edges, components, Euler characteristic), geometry (area, enclosed volume), and how
+// well it fits the surface (max |f| at vertices, vertices outside the guaranteed enclosure).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "enclose/octree.h"
+#include "expr/tape.h"
+#include "mesh/triangle_soup.h"
+
+namespace iaa {
+
+struct MeshReport {
+  std::uint64_t vertices = 0;         ///< vertices used by some triangle
+  std::uint64_t unused_vertices = 0;  ///< vertices no triangle uses
+  std::uint64_t triangles = 0;
+  std::uint64_t degenerate_triangles = 0;  ///< a repeated vertex index
+  std::uint64_t edges = 0;
+  std::uint64_t boundary_edges = 0;      ///< edges of exactly one triangle
+  std::uint64_t nonmanifold_edges = 0;   ///< edges of three or more triangles
+  std::uint64_t inconsistent_edges = 0;  ///< two-triangle edges traversed the same way by both
+  std::uint64_t components = 0;          ///< connected through shared vertices
+  std::int64_t euler = 0;                ///< V - E + F
+  double area = 0;
+  double volume = 0;     ///< signed volume (divergence theorem); meaningful for closed meshes
+  double max_abs_f = 0;  ///< max |f| over the vertices (when a tape is given)
+  std::uint64_t undefined_vertices = 0;  ///< f not finite there
+  /// Vertices outside every leaf box of the enclosure (-1 when no enclosure was given).
+  std::int64_t outside_enclosure = -1;
+};
+
+/// Analyses a mesh. With a tape, evaluates f at every vertex; with an enclosure, counts vertices
+/// that lie outside all of its leaves (allowing a relative tolerance of 1e-9 of the bounds).
+MeshReport analyze_mesh(const TriangleSoup& mesh, const Tape* tape = nullptr,
+                        const Enclosure* enclosure = nullptr);
+
+/// Throws iaa::Error when the mesh cannot be used: no triangles, a non-finite vertex coordinate,
+/// or a triangle index out of range. `what` names the mesh in the message (a path).
+void check_mesh(const TriangleSoup& mesh, const std::string& what);
+
+}  // namespace iaa

@@ -1,0 +1,577 @@
+// Cubical marching squares over the enclosure's leaves; see octree_mesher.h for the method and
+// its guarantees. The grid is the finest level L of the enclosure: every leaf corner is an integer
+// point in [0, 2^L]^3. Points are kept in three sorted arrays, one per axis, whose keys put the
+// coordinate along that axis in the lowest bits, so the points on any grid line are contiguous and
+// ordered: the corners of all leaves that touch an edge are found with two binary searches, and
+// an elementary grid edge is named by its axis and position in that array.
+#include "mesh/octree_mesher.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cfenv>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "expr/eval_interval.h"
+#include "expr/eval_point.h"
+#include "expr/eval_point_grad.h"
+
+namespace iaa {
+
+void OctreeMeshSettings::validate() const {
+  enclose.validate();
+  if (enclose.depth + enclose.refine_possible > kMaxLevel) {
+    throw SettingError("octree mesh: depth + refine (" + std::to_string(enclose.depth) + " + " +
+                       std::to_string(enclose.refine_possible) + ") must be at most " +
+                       std::to_string(kMaxLevel));
+  }
+  if (edge_steps < 0 || edge_steps > 60) {
+    throw SettingError("octree mesh: edge_steps must be in 0..60, got " +
+                       std::to_string(edge_steps));
+  }
+  if (centre_steps < 0 || centre_steps > 20) {
+    throw SettingError("octree mesh: centre_steps must be in 0..20, got " +
+                       std::to_string(centre_steps));
+  }
+}
+
+namespace {
+
+using U64 = std::uint64_t;
+constexpr int kBits = 21;
+constexpr U64 kMask = (U64{1} << kBits) - 1;
+constexpr U64 kCentreFlag = U64{1} << 63;
+constexpr std::size_t kChunk = 512;
+
+using IPoint = std::array<U64, 3>;
+
+// Round-to-nearest for point geometry: grid coordinates must be the same doubles wherever they are
+// computed, whatever rounding mode the caller's thread is in.
+class NearestScope {
+ public:
+  NearestScope() : saved_(std::fegetround()) { std::fesetround(FE_TONEAREST); }
+  ~NearestScope() { std::fesetround(saved_); }
+  NearestScope(const NearestScope&) = delete;
+  NearestScope& operator=(const NearestScope&) = delete;
+
+ private:
+  int saved_;
+};
+
+// Key of a grid point for the array of `axis`: the two other coordinates, then the one along axis.
+inline U64 line_key(int axis, const IPoint& p) {
+  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+  return (p[b] << (2 * kBits)) | (p[c] << kBits) | p[axis];
+}
+inline IPoint decode_key(int axis, U64 key) {
+  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+  IPoint p{};
+  p[axis] = key & kMask;
+  p[c] = (key >> kBits) & kMask;
+  p[b] = key >> (2 * kBits);
+  return p;
+}
+
+// Locational code of an octree node: a leading 1, then 3 bits (x, y, z) per level.
+inline U64 node_code(int depth, const std::array<std::uint32_t, 3>& idx) {
+  U64 c = 1;
+  for (int l = depth - 1; l >= 0; --l) {
+    c = (c << 3) | (U64((idx[0] >> l) & 1) << 2) | (U64((idx[1] >> l) & 1) << 1) |
+        U64((idx[2] >> l) & 1);
+  }
+  return c;
+}
+
+struct Grid {
+  int level = 0;
+  Box3 bounds;
+  // Per axis: sorted entries (line_key << 1) | negative.
+  std::array<std::vector<U64>, 3> lines;
+  std::vector<U64> internal;  // sorted codes of nodes that have leaves below them
+
+  Vec3 position(const IPoint& p) const {  // call inside a NearestScope
+    const double n = std::ldexp(1.0, level);
+    Vec3 r;
+    for (int a = 0; a < 3; ++a) {
+      const U64 i = p[a];
+      r[a] = i == (U64{1} << level)
+                 ? bounds.hi[a]
+                 : bounds.lo[a] + (bounds.hi[a] - bounds.lo[a]) * (static_cast<double>(i) / n);
+    }
+    return r;
+  }
+  // Position of p in the array of axis; p must be a grid point.
+  std::size_t find(int axis, const IPoint& p) const {
+    const U64 k = line_key(axis, p) << 1;
+    const auto& v = lines[static_cast<std::size_t>(axis)];
+    const auto it = std::lower_bound(v.begin(), v.end(), k);
+    IAA_CHECK(it != v.end() && (*it >> 1) == (k >> 1));
+    return static_cast<std::size_t>(it - v.begin());
+  }
+  bool negative(int axis, std::size_t pos) const {
+    return lines[static_cast<std::size_t>(axis)][pos] & 1;
+  }
+  bool is_internal(U64 code) const {
+    return std::binary_search(internal.begin(), internal.end(), code);
+  }
+};
+
+// A crossing seen while walking a polygon: the grid edge it lies on, and whether the walk enters
+// the negative region there.
+struct Crossing {
+  U64 edge;
+  bool enters_negative;
+};
+
+struct Centre {
+  std::uint32_t leaf;
+  std::uint32_t first, count;  // into the block's loop_refs
+};
+
+// Output of one block of leaves.
+struct Block {
+  std::vector<std::array<U64, 3>> tris;  // refs: edge ids, or kCentreFlag | local centre index
+  std::vector<Centre> centres;
+  std::vector<U64> loop_refs;
+  std::vector<std::uint32_t> unmeshed;  // leaves with no loop
+  std::uint64_t open_chains = 0;
+};
+
+inline U64 edge_id(int axis, std::size_t pos) {
+  return (U64(axis) << 40) | U64(pos);
+}
+
+class Extractor {
+ public:
+  Extractor(const Grid& g, const Enclosure& e) : g_(g), e_(e) {}
+
+  void leaf(std::uint32_t li, Block& out) {
+    const Cell& c = e_.cells[li];
+    const int k = c.depth;
+    const U64 s = U64{1} << (g_.level - k);
+    const IPoint o{U64(c.index[0]) * s, U64(c.index[1]) * s, U64(c.index[2]) * s};
+    segs_.clear();
+    for (int a = 0; a < 3; ++a) {
+      for (int side = 0; side < 2; ++side) {
+        squares_.clear();
+        const std::int64_t ni = std::int64_t(c.index[a]) + (side ? 1 : -1);
+        const int u = (a + 1) % 3, v = (a + 2) % 3;
+        if (ni >= 0 && ni < (std::int64_t{1} << k)) {
+          auto idx = c.index;
+          idx[a] = static_cast<std::uint32_t>(ni);
+          collect_squares(node_code(k, idx), a, side, o[u], o[v], s);
+        } else {
+          squares_.push_back({o[u], o[v], s});
+        }
+        const U64 w = o[a] + (side ? s : 0);
+        for (const auto& q : squares_) polygon(a, side, w, q[0], q[1], q[2]);
+      }
+    }
+    if (segs_.empty()) {
+      out.unmeshed.push_back(li);
+      return;
+    }
+    link(li, out);
+  }
+
+ private:
+  // Sub-squares of a leaf face: the faces of the finer leaves on the other side.
+  void collect_squares(U64 code, int a, int side, U64 u0, U64 v0, U64 size) {
+    if (size == 1 || !g_.is_internal(code)) {
+      squares_.push_back({u0, v0, size});
+      return;
+    }
+    const int u = (a + 1) % 3, v = (a + 2) % 3;
+    const U64 h = size / 2;
+    for (int bu = 0; bu < 2; ++bu) {
+      for (int bv = 0; bv < 2; ++bv) {
+        int bits[3];
+        bits[a] = side ? 0 : 1;  // the half of the neighbour that touches our face
+        bits[u] = bu;
+        bits[v] = bv;
+        const U64 child = (code << 3) | U64(bits[0] << 2 | bits[1] << 1 | bits[2]);
+        collect_squares(child, a, side, u0 + U64(bu) * h, v0 + U64(bv) * h, h);
+      }
+    }
+  }
+
+  // Walks one side of a polygon from corner A to corner B (they differ along axis t).
+  void walk(int t, const IPoint& A, const IPoint& B) {
+    const std::size_t pa = g_.find(t, A), pb = g_.find(t, B);
+    if (pa < pb) {
+      for (std::size_t j = pa; j < pb; ++j) {
+        const bool n0 = g_.negative(t, j), n1 = g_.negative(t, j + 1);
+        if (n0 != n1) cross_.push_back({edge_id(t, j), n1});
+      }
+    } else {
+      for (std::size_t j = pa; j > pb; --j) {
+        const bool n0 = g_.negative(t, j), n1 = g_.negative(t, j - 1);
+        if (n0 != n1) cross_.push_back({edge_id(t, j - 1), n1});
+      }
+    }
+  }
+
+  // One polygon of the leaf boundary, walked counter-clockwise around the outward normal; its
+  // crossings are paired around each negative arc into segments oriented from the crossing that
+  // enters the negative region to the one that leaves it.
+  void polygon(int a, int side, U64 w, U64 u0, U64 v0, U64 q) {
+    const int u = (a + 1) % 3, v = (a + 2) % 3;
+    auto pt = [&](U64 pu, U64 pv) {
+      IPoint p{};
+      p[a] = w;
+      p[u] = pu;
+      p[v] = pv;
+      return p;
+    };
+    IPoint corner[4];
+    if (side) {
+      corner[0] = pt(u0, v0), corner[1] = pt(u0 + q, v0), corner[2] = pt(u0 + q, v0 + q),
+      corner[3] = pt(u0, v0 + q);
+    } else {
+      corner[0] = pt(u0, v0), corner[1] = pt(u0, v0 + q), corner[2] = pt(u0 + q, v0 + q),
+      corner[3] = pt(u0 + q, v0);
+    }
+    cross_.clear();
+    for (int i = 0; i < 4; ++i) {
+      const IPoint& A = corner[i];
+      const IPoint& B = corner[(i + 1) % 4];
+      walk(A[u] != B[u] ? u : v, A, B);
+    }
+    const std::size_t m = cross_.size();
+    if (m == 0) return;
+    IAA_CHECK(m % 2 == 0);
+    std::size_t i0 = 0;
+    while (!cross_[i0].enters_negative) ++i0;
+    for (std::size_t i = 0; i < m; i += 2) {
+      const Crossing& s = cross_[(i0 + i) % m];
+      const Crossing& e = cross_[(i0 + i + 1) % m];
+      IAA_CHECK(s.enters_negative && !e.enters_negative);
+      segs_.push_back({s.edge, e.edge});
+    }
+  }
+
+  // Links the leaf's segments into closed loops and triangulates each.
+  void link(std::uint32_t li, Block& out) {
+    std::sort(segs_.begin(), segs_.end());
+    used_.assign(segs_.size(), false);
+    for (std::size_t i0 = 0; i0 < segs_.size(); ++i0) {
+      if (used_[i0]) continue;
+      loop_.clear();
+      std::size_t i = i0;
+      bool closed = false;
+      while (true) {
+        used_[i] = true;
+        loop_.push_back(segs_[i].first);
+        const U64 next = segs_[i].second;
+        if (next == segs_[i0].first) {
+          closed = true;
+          break;
+        }
+        const auto it = std::lower_bound(segs_.begin(), segs_.end(), std::pair<U64, U64>{next, 0});
+        if (it == segs_.end() || it->first != next) break;
+        i = static_cast<std::size_t>(it - segs_.begin());
+        if (used_[i]) break;
+      }
+      if (!closed) {
+        ++out.open_chains;
+        continue;
+      }
+      const std::size_t n = loop_.size();
+      if (n < 3) continue;  // a pinch: the neighbours' triangles meet along this segment directly
+      if (n == 3) {
+        out.tris.push_back({loop_[0], loop_[1], loop_[2]});
+        continue;
+      }
+      const U64 centre = kCentreFlag | out.centres.size();
+      out.centres.push_back(
+          {li, static_cast<std::uint32_t>(out.loop_refs.size()), static_cast<std::uint32_t>(n)});
+      for (std::size_t j = 0; j < n; ++j) {
+        out.loop_refs.push_back(loop_[j]);
+        out.tris.push_back({centre, loop_[j], loop_[(j + 1) % n]});
+      }
+    }
+  }
+
+  const Grid& g_;
+  const Enclosure& e_;
+  std::vector<std::array<U64, 3>> squares_;
+  std::vector<Crossing> cross_;
+  std::vector<std::pair<U64, U64>> segs_;
+  std::vector<bool> used_;
+  std::vector<U64> loop_;
+};
+
+// Places a crossing on its grid edge: regula falsi (Illinois) keeping the bracket.
+Vec3 place_on_edge(PointEval& pe, Vec3 p0, Vec3 p1, int steps) {
+  double f0 = pe.eval(p0), f1 = pe.eval(p1);
+  if (!std::isfinite(f0) || !std::isfinite(f1) || (f0 < 0) == (f1 < 0) || f0 == 0 || f1 == 0) {
+    if (f0 == 0 && std::isfinite(f1)) return p0;
+    if (f1 == 0 && std::isfinite(f0)) return p1;
+    return 0.5 * (p0 + p1);
+  }
+  double t0 = 0, t1 = 1;
+  int last = 0;
+  double best_t = f0 / (f0 - f1), best_f = INFINITY;
+  for (int i = 0; i < steps; ++i) {
+    double t = t0 + (t1 - t0) * f0 / (f0 - f1);
+    if (!(t > t0 && t < t1)) t = 0.5 * (t0 + t1);
+    const double f = pe.eval(p0 + t * (p1 - p0));
+    if (!std::isfinite(f)) break;
+    if (std::fabs(f) < best_f) best_f = std::fabs(f), best_t = t;
+    if (f == 0) break;
+    if ((f < 0) == (f0 < 0)) {
+      t0 = t, f0 = f;
+      if (last == -1) f1 *= 0.5;
+      last = -1;
+    } else {
+      t1 = t, f1 = f;
+      if (last == 1) f0 *= 0.5;
+      last = 1;
+    }
+  }
+  if (steps == 0) best_t = std::clamp(best_t, 0.0, 1.0);
+  const Vec3 lo = p0, d = p1 - p0;
+  return lo + best_t * d;
+}
+
+}  // namespace
+
+OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMeshSettings& settings,
+                        const Exec& exec) {
+  OctreeMesh result;
+  OctreeMeshStats& st = result.stats;
+  const std::size_t n_leaves = enc.cells.size();
+  st.leaves = n_leaves;
+  st.evaluations = enc.evaluations;
+  int level = 0;
+  for (const Cell& c : enc.cells) {
+    level = std::max(level, int(c.depth));
+    (c.cls == CellClass::kCrossing ? st.crossing_leaves : st.possible_leaves) += 1;
+  }
+  if (level > OctreeMeshSettings::kMaxLevel) {
+    throw SettingError("octree mesh: the enclosure's finest depth " + std::to_string(level) +
+                       " exceeds the mesher's limit " +
+                       std::to_string(OctreeMeshSettings::kMaxLevel));
+  }
+  st.finest_level = level;
+  if (n_leaves == 0) return result;
+
+  Grid g;
+  g.level = level;
+  g.bounds = enc.bounds;
+
+  exec.run([&] {
+    // Internal nodes: every proper ancestor of a leaf.
+    std::vector<U64>& in = g.internal;
+    for (const Cell& c : enc.cells) {
+      U64 code = node_code(c.depth, c.index) >> 3;
+      for (int d = c.depth - 1; d >= 0; --d, code >>= 3) in.push_back(code);
+    }
+    tbb::parallel_sort(in.begin(), in.end());
+    in.erase(std::unique(in.begin(), in.end()), in.end());
+
+    // Grid points: the corners of every leaf and of every child of an internal node (empty
+    // children included: their faces are polygons of the neighbouring leaves' boundaries), sorted
+    // and unique (z-lines order = axis 2 keys).
+    std::vector<U64> keys(8 * n_leaves + 27 * in.size());
+    tbb::parallel_for(std::size_t{0}, in.size(), [&](std::size_t i) {
+      U64 code = in[i];
+      int d = 0;
+      while ((code >> (3 * (d + 1))) != 0) ++d;
+      IPoint idx{0, 0, 0};
+      for (int l = 0; l < d; ++l) {
+        const U64 bits = (code >> (3 * l)) & 7;
+        idx[0] |= ((bits >> 2) & 1) << l;
+        idx[1] |= ((bits >> 1) & 1) << l;
+        idx[2] |= (bits & 1) << l;
+      }
+      const U64 h = U64{1} << (level - d - 1);  // half the node's size
+      for (int k = 0; k < 27; ++k) {
+        const IPoint p{(2 * idx[0] + U64(k % 3)) * h, (2 * idx[1] + U64((k / 3) % 3)) * h,
+                       (2 * idx[2] + U64(k / 9)) * h};
+        keys[8 * n_leaves + 27 * i + std::size_t(k)] = line_key(2, p);
+      }
+    });
+    tbb::parallel_for(std::size_t{0}, n_leaves, [&](std::size_t i) {
+      const Cell& c = enc.cells[i];
+      const U64 s = U64{1} << (level - c.depth);
+      for (int k = 0; k < 8; ++k) {
+        const IPoint p{(U64(c.index[0]) + (k & 1)) * s, (U64(c.index[1]) + ((k >> 1) & 1)) * s,
+                       (U64(c.index[2]) + ((k >> 2) & 1)) * s};
+        keys[8 * i + std::size_t(k)] = line_key(2, p);
+      }
+    });
+    tbb::parallel_sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    const std::size_t np = keys.size();
+    st.sample_points = np;
+
+    // Certified signs: f on the degenerate box of each point must be certainly negative to count
+    // as negative; anything undecided (f = 0 up to rounding, undefined) counts as non-negative.
+    {
+      ProgressPhase phase(exec.progress, "mesh: signs", np);
+      std::vector<U64>& z = g.lines[2];
+      z.resize(np);
+      std::atomic<std::uint64_t> uncertain{0};
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const auto& r) {
+        IntervalEval ie(tape);
+        std::vector<Vec3> pos(r.size());
+        {
+          NearestScope nearest;
+          for (std::size_t i = r.begin(); i < r.end(); ++i)
+            pos[i - r.begin()] = g.position(decode_key(2, keys[i]));
+        }
+        std::uint64_t unc = 0;
+        RoundingScope scope;
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+          const Vec3& p = pos[i - r.begin()];
+          const Interval v = ie.eval(IBox(Interval(p.x), Interval(p.y), Interval(p.z)));
+          const bool neg = !ie.partial_domain() && v.certainly_negative();
+          if (ie.partial_domain() || (!v.certainly_negative() && !v.certainly_positive())) ++unc;
+          z[i] = (keys[i] << 1) | U64(neg);
+        }
+        uncertain += unc;
+        phase.advance(r.size());
+      });
+      st.uncertain_points = uncertain;
+      st.evaluations += np;
+    }
+    for (int a = 0; a < 2; ++a) {
+      std::vector<U64>& v = g.lines[std::size_t(a)];
+      v.resize(np);
+      tbb::parallel_for(std::size_t{0}, np, [&](std::size_t i) {
+        const U64 e = g.lines[2][i];
+        v[i] = (line_key(a, decode_key(2, e >> 1)) << 1) | (e & 1);
+      });
+      tbb::parallel_sort(v.begin(), v.end());
+    }
+    keys.clear();
+    keys.shrink_to_fit();
+  });
+
+  // Loops and triangles, per block of leaves (blocks in leaf order: deterministic output).
+  const std::size_t n_blocks = (n_leaves + kChunk - 1) / kChunk;
+  std::vector<Block> blocks(n_blocks);
+  {
+    ProgressPhase phase(exec.progress, "mesh: extract", n_leaves);
+    exec.run([&] {
+      tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
+        Extractor ex(g, enc);
+        const std::size_t end = std::min(n_leaves, (b + 1) * kChunk);
+        for (std::size_t i = b * kChunk; i < end; ++i)
+          ex.leaf(static_cast<std::uint32_t>(i), blocks[b]);
+        phase.advance(end - b * kChunk);
+      });
+    });
+  }
+
+  // Vertices: every crossing edge used, in sorted order, then the loop centres in block order.
+  std::vector<U64> edges;
+  std::vector<std::size_t> centre_base(n_blocks + 1, 0);
+  for (std::size_t b = 0; b < n_blocks; ++b) {
+    const Block& bl = blocks[b];
+    for (const auto& t : bl.tris) {
+      for (U64 r : t) {
+        if (!(r & kCentreFlag)) edges.push_back(r);
+      }
+    }
+    centre_base[b + 1] = centre_base[b] + bl.centres.size();
+    st.open_chains += bl.open_chains;
+    for (std::uint32_t li : bl.unmeshed) {
+      const Cell& c = enc.cells[li];
+      if (c.cls == CellClass::kPossible) {
+        ++st.unmeshed_possible;
+        result.unmeshed.push_back(c);
+      } else {
+        ++st.unmeshed_crossing;
+      }
+    }
+  }
+  st.meshed_leaves = n_leaves - st.unmeshed_possible - st.unmeshed_crossing;
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  const std::size_t n_edge_vertices = edges.size();
+  const std::size_t n_vertices = n_edge_vertices + centre_base[n_blocks];
+  TriangleSoup& soup = result.soup;
+  soup.vertices.resize(n_vertices);
+  {
+    ProgressPhase phase(exec.progress, "mesh: vertices", n_vertices);
+    exec.run([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_edge_vertices, 1024),
+                        [&](const auto& r) {
+                          NearestScope nearest;
+                          PointEval pe(tape);
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                            const int axis = int(edges[i] >> 40);
+                            const std::size_t pos = edges[i] & ((U64{1} << 40) - 1);
+                            const auto& line = g.lines[std::size_t(axis)];
+                            const Vec3 p0 = g.position(decode_key(axis, line[pos] >> 1));
+                            const Vec3 p1 = g.position(decode_key(axis, line[pos + 1] >> 1));
+                            soup.vertices[i] = place_on_edge(pe, p0, p1, settings.edge_steps);
+                          }
+                          phase.advance(r.size());
+                        });
+      auto vertex_of = [&](U64 r) {
+        return static_cast<std::size_t>(std::lower_bound(edges.begin(), edges.end(), r) -
+                                        edges.begin());
+      };
+      tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
+        NearestScope nearest;
+        PointGradEval pg(tape);
+        const Block& bl = blocks[b];
+        for (std::size_t ci = 0; ci < bl.centres.size(); ++ci) {
+          const Centre& c = bl.centres[ci];
+          Vec3 p{};
+          for (std::uint32_t j = 0; j < c.count; ++j)
+            p = p + soup.vertices[vertex_of(bl.loop_refs[c.first + j])];
+          p = p / double(c.count);
+          // Pull the centre onto the surface with Newton steps, staying inside its leaf.
+          const Box3 box = enc.box(enc.cells[c.leaf]);
+          PGrad f = pg.eval(p);
+          for (int s = 0; s < settings.centre_steps && std::isfinite(f.v) && f.v != 0; ++s) {
+            const double g2 = dot(f.g, f.g);
+            if (!(g2 > 0) || !std::isfinite(g2)) break;
+            Vec3 q = p - (f.v / g2) * f.g;
+            for (int a = 0; a < 3; ++a) q[a] = std::clamp(q[a], box.lo[a], box.hi[a]);
+            const PGrad fq = pg.eval(q);
+            if (!(std::fabs(fq.v) < std::fabs(f.v))) break;
+            p = q, f = fq;
+          }
+          soup.vertices[n_edge_vertices + centre_base[b] + ci] = p;
+        }
+        phase.advance(bl.centres.size());
+      });
+      // Triangles with final vertex numbers.
+      std::vector<std::size_t> tri_base(n_blocks + 1, 0);
+      for (std::size_t b = 0; b < n_blocks; ++b)
+        tri_base[b + 1] = tri_base[b] + blocks[b].tris.size();
+      soup.triangles.resize(tri_base[n_blocks]);
+      tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
+        const Block& bl = blocks[b];
+        for (std::size_t t = 0; t < bl.tris.size(); ++t) {
+          std::array<std::uint32_t, 3> tri{};
+          for (int k = 0; k < 3; ++k) {
+            const U64 r = bl.tris[t][std::size_t(k)];
+            const std::size_t v = (r & kCentreFlag)
+                                      ? n_edge_vertices + centre_base[b] + (r & ~kCentreFlag)
+                                      : vertex_of(r);
+            tri[std::size_t(k)] = static_cast<std::uint32_t>(v);
+          }
+          soup.triangles[tri_base[b] + t] = tri;
+        }
+      });
+    });
+  }
+  return result;
+}
+
+OctreeMesh mesh_octree(const Tape& tape, const OctreeMeshSettings& settings, const Exec& exec) {
+  settings.validate();
+  const Enclosure enc = enclose(tape, settings.enclose, exec);
+  return extract_mesh(tape, enc, settings, exec);
+}
+
+}  // namespace iaa
