@@ -30,7 +30,9 @@ struct Cell {
   std::array<std::uint32_t, 3> index;
   std::uint8_t depth;
   CellClass cls;
-  Interval f;  ///< interval value of f over the cell
+  /// An enclosure of f over the cell: the natural interval value, intersected with the mean-value
+  /// form where that was computed (possible leaves).
+  Interval f;
 };
 
 /// What to compute.
@@ -42,6 +44,10 @@ struct EncloseSettings {
   int refine_possible = 0;
   /// Upper bound on the number of leaves; exceeding it is an error with a clear message.
   std::uint64_t max_boxes = 20'000'000;
+  /// Also bound f on each cell by its mean-value form f(c) + G(cell).(cell - c) and keep the
+  /// intersection with the natural interval (both are sound). Costs a gradient evaluation per
+  /// kept cell and removes most cells that the natural interval cannot exclude near the surface.
+  bool centered_form = true;
 
   static constexpr int kMaxDepth = 21;
   static constexpr int kMaxRefine = 8;
@@ -54,13 +60,31 @@ struct EncloseSettings {
 struct Enclosure {
   Box3 bounds;
   std::vector<Cell> cells;
-  std::uint64_t evaluations = 0;  ///< interval evaluations of f
-  /// Number of leaves per depth and class.
+  std::uint64_t evaluations = 0;  ///< interval evaluations of f over cells
+  /// Interval evaluations of f at grid points (degenerate boxes): cell corners for the crossing
+  /// test and cell centres for the mean-value form. Each point is evaluated at most once per
+  /// parallel subtree.
+  std::uint64_t corner_evaluations = 0;
+  /// Number of leaves per depth (index) and class ([0] crossing, [1] possible); its size is
+  /// depth + refine_possible + 1 of the settings that produced it.
   std::vector<std::array<std::uint64_t, 2>> counts_by_depth;
 
-  /// The box of a cell.
+  /// The box of a cell: exactly the box (bit for bit) that f was evaluated on. Neighbouring cells
+  /// share their faces exactly and the leaves of one depth tile `bounds` without gaps.
   Box3 box(const Cell& c) const;
+  /// Number of leaves of a class.
+  std::uint64_t count(CellClass cls) const;
 };
+
+/// Coordinate of grid line `i` (0 <= i <= 2^depth) when [lo, hi] is split 2^depth times. Line 0 is
+/// lo and line 2^depth is hi exactly; the function is monotone in i and line 2i at depth+1 equals
+/// line i at depth, so cells of different depths nest exactly. Computed with upward rounding (a
+/// RoundingScope is opened when none is active) so that every caller gets the same double.
+double grid_coordinate(double lo, double hi, std::uint64_t i, int depth);
+
+/// Canonical order of cells: by depth, then by Morton order of the index (x the least significant
+/// bit of each octal digit, then y, then z), which is the depth-first order of the octree.
+bool canonical_less(const Cell& a, const Cell& b);
 
 /// Computes the enclosure of f = 0 in settings.bounds. Throws SettingError on invalid settings
 /// or when max_boxes is exceeded.

@@ -1,0 +1,448 @@
+// The enclosure octree (octree.h). Three phases:
+// 1. A short breadth-first pass from the root down to a "split level" with enough candidate cells
+//    to feed the threads (chosen from the surface alone, never from the thread count).
+// 2. One depth-first task per candidate cell (a subtree) in parallel: evaluate F on the cell,
+//    discard it when 0 is not in F, split it until the leaf depth, classify the leaf with its
+//    corner signs (cached per subtree so that shared corners are evaluated once), and refine
+//    possible leaves up to refine_possible levels further.
+// 3. Gather the subtrees' leaves into canonical order (depth, then Morton order). Depth-first
+//    traversal with children in Morton order already yields Morton order within one depth, and
+//    the subtrees are themselves in Morton order, so a stable bucketing by depth is enough.
+// The subtrees, their traversal and their corner caches do not depend on the thread count, so
+// the leaves *and* the evaluation counts are identical for any number of threads.
+#include "enclose/octree.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <string>
+
+#include "core/error.h"
+#include "expr/eval_interval.h"
+#include "expr/eval_interval_grad.h"
+
+namespace iaa {
+
+namespace {
+
+using Index = std::array<std::uint32_t, 3>;
+using Grad = std::array<Interval, 3>;
+
+/// The split level is the first level with at least this many candidate cells.
+constexpr std::size_t kMinSubtrees = 512;
+
+/// Open-addressing map from a grid point (integer coordinates on the key grid, one level finer
+/// than the deepest cells so that cell centres are grid points too) to the interval value of f
+/// there. One per subtree, so that what is evaluated does not depend on the thread count.
+class PointCache {
+ public:
+  PointCache() : slots_(1024) {}
+
+  /// Returns the value slot of point (x, y, z); `*found` tells whether it was already there.
+  Interval* find_or_insert(std::uint32_t x, std::uint32_t y, std::uint32_t z, bool* found) {
+    if (2 * (used_ + 1) > slots_.size()) grow();
+    Slot* s = probe(x, y, z);
+    *found = s->x != kEmpty;
+    if (!*found) {
+      s->x = x;
+      s->y = y;
+      s->z = z;
+      ++used_;
+    }
+    return &s->value;
+  }
+
+ private:
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;  // keys are at most 2^30
+  struct Slot {
+    std::uint32_t x = kEmpty, y = 0, z = 0;
+    Interval value;
+  };
+
+  Slot* probe(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    std::uint64_t h =
+        x * 0x9E3779B97F4A7C15ull ^ y * 0xC2B2AE3D27D4EB4Full ^ z * 0x165667B19E3779F9ull;
+    h ^= h >> 29;
+    const std::size_t mask = slots_.size() - 1;
+    for (std::size_t i = h & mask;; i = (i + 1) & mask) {
+      Slot& s = slots_[i];
+      if (s.x == kEmpty || (s.x == x && s.y == y && s.z == z)) return &s;
+    }
+  }
+  void grow() {
+    std::vector<Slot> old(slots_.size() * 2);
+    old.swap(slots_);
+    for (const Slot& s : old) {
+      if (s.x != kEmpty) *probe(s.x, s.y, s.z) = s;
+    }
+  }
+
+  std::vector<Slot> slots_;
+  std::size_t used_ = 0;
+};
+
+/// grid_coordinate without the rounding-mode check, for the hot loop (a RoundingScope is open).
+inline double grid_coord_up(double lo, double hi, std::uint64_t i, int depth) {
+  const std::uint64_t n = std::uint64_t{1} << depth;
+  if (i == 0) return lo;
+  if (i >= n) return hi;
+  // i / 2^depth is exact; the product and the sum round upward, which keeps the map monotone.
+  return lo + std::ldexp(static_cast<double>(i), -depth) * (hi - lo);
+}
+
+/// State shared by all subtree tasks.
+struct Shared {
+  const Tape* tape;
+  Box3 bounds;
+  int depth;      ///< leaf depth
+  int max_depth;  ///< depth + refine_possible
+  std::uint64_t max_boxes;
+  bool centered_form;
+  std::atomic<std::uint64_t> leaves{0};
+  std::atomic<bool> over_limit{false};
+};
+
+/// Depth-first enclosure of one subtree; owns its evaluators, point cache and output.
+class SubtreeWorker {
+ public:
+  explicit SubtreeWorker(Shared& sh)
+      : sh_(sh), key_depth_(sh.max_depth + 1), ie_(*sh.tape), ge_(*sh.tape) {}
+
+  /// Encloses the subtree of cell (idx, d). `gp`, when given, encloses the gradient of f over the
+  /// parent cell, on which f is defined everywhere (no partial domain): it encloses the gradient
+  /// over this cell too, so the mean-value form costs only the value at the centre.
+  void visit(const Index& idx, int d, const Grad* gp) {
+    if (sh_.over_limit.load(std::memory_order_relaxed)) return;
+    const IBox box = cell_ibox(idx, d);
+    Interval f = Interval::whole();
+    bool partial = true;
+    if (gp) {
+      f = centered(idx, d, box, *gp);
+      partial = false;  // partial domain is inclusion-monotone: none on the parent, none here
+      if (!f.contains_zero()) return;
+    }
+    Grad g;
+    bool g_valid = false;
+    // The natural interval value and the cell's own gradient, in one evaluation.
+    const auto own = [&] {
+      if (sh_.centered_form) {
+        const IGrad r = ge_.eval(box);
+        partial = ge_.partial_domain();
+        f = intersect(f, r.v);
+        g = r.g;
+        g_valid = !partial && g[0].is_finite() && g[1].is_finite() && g[2].is_finite();
+        if (g_valid && f.contains_zero()) f = intersect(f, centered(idx, d, box, g));
+      } else {
+        f = ie_.eval(box);
+        partial = ie_.partial_domain();
+      }
+      ++evaluations_;
+    };
+    if (d < sh_.depth) {
+      own();
+      if (f.contains_zero()) split(idx, d, g_valid ? &g : nullptr);
+      return;
+    }
+    // A leaf. Crossing when its corners prove a sign change of a continuous f; with the parent's
+    // gradient at hand the leaf's own evaluation is only needed when it is not.
+    if (!gp) {
+      own();
+      if (!f.contains_zero()) return;  // certified empty (or f undefined on the whole cell)
+    }
+    if (!partial && corners_have_both_signs(idx, d)) {
+      emit(idx, d, CellClass::kCrossing, f);
+      return;
+    }
+    if (gp) {
+      own();  // a possible leaf: try the tighter bound of its own evaluation
+      if (!f.contains_zero()) return;
+    }
+    if (d < sh_.max_depth) {
+      split(idx, d, g_valid ? &g : nullptr);  // refine a possible leaf
+    } else {
+      emit(idx, d, CellClass::kPossible, f);
+    }
+  }
+
+  /// Publishes the leaf count to the shared limit check.
+  void flush() {
+    const std::uint64_t total =
+        sh_.leaves.fetch_add(pending_, std::memory_order_relaxed) + pending_;
+    pending_ = 0;
+    if (total > sh_.max_boxes) sh_.over_limit.store(true, std::memory_order_relaxed);
+  }
+
+  std::vector<Cell>& cells() { return cells_; }
+  std::uint64_t evaluations() const { return evaluations_; }
+  std::uint64_t corner_evaluations() const { return corner_evaluations_; }
+
+ private:
+  void emit(const Index& idx, int d, CellClass cls, const Interval& f) {
+    cells_.push_back(Cell{idx, static_cast<std::uint8_t>(d), cls, f});
+    if (++pending_ == 256) flush();
+  }
+
+  void split(const Index& idx, int d, const Grad* g) {
+    for (std::uint32_t c = 0; c < 8; ++c) {
+      visit({2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)}, d + 1,
+            g);
+    }
+  }
+
+  /// f on the key-grid point (x, y, z), evaluated on the degenerate box (so its sign, when
+  /// certain, is proved) at most once per subtree. Returns whole() where f may be undefined.
+  Interval point_value(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    bool found = false;
+    Interval* v = cache_.find_or_insert(x, y, z, &found);
+    if (!found) {
+      const Box3& b = sh_.bounds;
+      const IBox p(Interval(grid_coord_up(b.lo.x, b.hi.x, x, key_depth_)),
+                   Interval(grid_coord_up(b.lo.y, b.hi.y, y, key_depth_)),
+                   Interval(grid_coord_up(b.lo.z, b.hi.z, z, key_depth_)));
+      *v = ie_.eval(p);
+      ++corner_evaluations_;
+      if (ie_.partial_domain() || v->is_empty()) *v = Interval::whole();
+    }
+    return *v;
+  }
+
+  /// The mean-value (centred) form f(c) + G . (box - c), with c the cell's centre and G an
+  /// enclosure of the gradient over the cell. Sound for continuous, piecewise differentiable f on
+  /// the cell (the gradient enclosure contains the generalized gradients at kinks); callers only
+  /// use it where the cell has no partial domain and G is finite. Where the natural interval
+  /// overestimates (x^4 - x^2 near its critical points) this one is tight to second order in the
+  /// cell size, which removes most of the "possible" shell around the surface. The centre is a
+  /// grid point (a corner of the children), so its value is shared through the cache.
+  Interval centered(const Index& idx, int d, const IBox& box, const Grad& g) {
+    const int shift = key_depth_ - d - 1;
+    const std::uint32_t k[3] = {(2 * idx[0] + 1) << shift, (2 * idx[1] + 1) << shift,
+                                (2 * idx[2] + 1) << shift};
+    Interval r = point_value(k[0], k[1], k[2]);
+    if (!r.is_finite()) return Interval::whole();
+    for (int a = 0; a < 3; ++a) {
+      const double c = grid_coord_up(sh_.bounds.lo[a], sh_.bounds.hi[a], k[a], key_depth_);
+      r += g[a] * (box[a] - Interval(c));
+    }
+    return r;
+  }
+
+  IBox cell_ibox(const Index& idx, int d) const {
+    IBox b;
+    for (int a = 0; a < 3; ++a) {
+      b[a] = Interval(grid_coord_up(sh_.bounds.lo[a], sh_.bounds.hi[a], idx[a], d),
+                      grid_coord_up(sh_.bounds.lo[a], sh_.bounds.hi[a], idx[a] + 1ull, d));
+    }
+    return b;
+  }
+
+  /// True when two corners of the cell have proved values of opposite strict signs.
+  bool corners_have_both_signs(const Index& idx, int d) {
+    const int shift = key_depth_ - d;
+    bool pos = false, neg = false;
+    for (std::uint32_t c = 0; c < 8; ++c) {
+      const Interval v =
+          point_value((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
+                      (idx[2] + ((c >> 2) & 1)) << shift);
+      pos |= v.certainly_positive();
+      neg |= v.certainly_negative();
+      if (pos && neg) return true;
+    }
+    return false;
+  }
+
+  Shared& sh_;
+  int key_depth_;  ///< depth of the point cache's grid
+  IntervalEval ie_;
+  IntervalGradEval ge_;
+  PointCache cache_;
+  std::vector<Cell> cells_;
+  std::uint64_t evaluations_ = 0;
+  std::uint64_t corner_evaluations_ = 0;
+  std::uint64_t pending_ = 0;
+};
+
+/// Morton order of two indices of one depth, bits interleaved z y x from the most significant
+/// end (x least significant), compared without building the codes: the axis whose differing bit
+/// is highest decides, ties going to the more significant axis.
+bool morton_less(const Index& a, const Index& b) {
+  const auto msb_less = [](std::uint32_t p, std::uint32_t q) { return p < q && p < (p ^ q); };
+  int axis = 2;
+  std::uint32_t best = a[2] ^ b[2];
+  for (int i = 1; i >= 0; --i) {
+    const std::uint32_t diff = a[i] ^ b[i];
+    if (msb_less(best, diff)) {
+      best = diff;
+      axis = i;
+    }
+  }
+  return a[axis] < b[axis];
+}
+
+}  // namespace
+
+double grid_coordinate(double lo, double hi, std::uint64_t i, int depth) {
+  if (!rounding_is_upward()) {
+    RoundingScope scope;
+    return grid_coordinate(lo, hi, i, depth);
+  }
+  return grid_coord_up(lo, hi, i, depth);
+}
+
+bool canonical_less(const Cell& a, const Cell& b) {
+  if (a.depth != b.depth) return a.depth < b.depth;
+  return morton_less(a.index, b.index);
+}
+
+void EncloseSettings::validate() const {
+  static const char* kAxis[3] = {"x", "y", "z"};
+  for (int a = 0; a < 3; ++a) {
+    const double lo = bounds.lo[a], hi = bounds.hi[a];
+    if (!std::isfinite(lo) || !std::isfinite(hi)) {
+      throw SettingError(std::string("bounds: the ") + kAxis[a] + " range must be finite");
+    }
+    if (!(lo < hi)) {
+      throw SettingError(std::string("bounds: the ") + kAxis[a] + " range [" + std::to_string(lo) +
+                         ", " + std::to_string(hi) + "] is " + (lo == hi ? "empty" : "inverted") +
+                         "; it must have lo < hi");
+    }
+  }
+  if (depth < 1 || depth > kMaxDepth) {
+    throw SettingError("depth must be between 1 and " + std::to_string(kMaxDepth) + ", got " +
+                       std::to_string(depth));
+  }
+  if (refine_possible < 0 || refine_possible > kMaxRefine) {
+    throw SettingError("refine_possible must be between 0 and " + std::to_string(kMaxRefine) +
+                       ", got " + std::to_string(refine_possible));
+  }
+  if (max_boxes < 1) throw SettingError("max_boxes must be at least 1");
+}
+
+Box3 Enclosure::box(const Cell& c) const {
+  Box3 b;
+  for (int a = 0; a < 3; ++a) {
+    b.lo[a] = grid_coordinate(bounds.lo[a], bounds.hi[a], c.index[a], c.depth);
+    b.hi[a] = grid_coordinate(bounds.lo[a], bounds.hi[a], c.index[a] + 1ull, c.depth);
+  }
+  return b;
+}
+
+std::uint64_t Enclosure::count(CellClass cls) const {
+  std::uint64_t n = 0;
+  for (const auto& d : counts_by_depth) n += d[cls == CellClass::kCrossing ? 0 : 1];
+  return n;
+}
+
+Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec& exec) {
+  settings.validate();
+  Shared sh;
+  sh.tape = &tape;
+  sh.bounds = settings.bounds;
+  sh.depth = settings.depth;
+  sh.max_depth = settings.depth + settings.refine_possible;
+  sh.max_boxes = settings.max_boxes;
+  sh.centered_form = settings.centered_form;
+
+  Enclosure out;
+  out.bounds = settings.bounds;
+  out.counts_by_depth.assign(static_cast<std::size_t>(sh.max_depth + 1), {0, 0});
+
+  // Phase 1: breadth first, in Morton order, until enough candidate cells for the threads.
+  std::vector<Index> frontier{{0, 0, 0}};
+  int level = 0;
+  {
+    RoundingScope scope;
+    IntervalEval ie(tape);
+    while (level < sh.depth && frontier.size() < kMinSubtrees && !frontier.empty()) {
+      std::vector<Index> next;
+      for (const Index& idx : frontier) {
+        IBox b;
+        for (int a = 0; a < 3; ++a) {
+          b[a] = Interval(grid_coord_up(sh.bounds.lo[a], sh.bounds.hi[a], idx[a], level),
+                          grid_coord_up(sh.bounds.lo[a], sh.bounds.hi[a], idx[a] + 1ull, level));
+        }
+        ++out.evaluations;
+        if (!ie.eval(b).contains_zero()) continue;
+        for (std::uint32_t c = 0; c < 8; ++c) {
+          next.push_back(
+              {2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)});
+        }
+      }
+      frontier.swap(next);
+      ++level;
+    }
+  }
+
+  // Phase 2: one depth-first task per frontier cell.
+  const std::size_t n = frontier.size();
+  std::vector<std::vector<Cell>> parts(n);
+  std::vector<std::uint64_t> evals(n, 0), corner_evals(n, 0);
+  std::atomic<bool> cancelled{false};
+  {
+    ProgressPhase phase(exec.progress, "enclose", n);
+    exec.run([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const auto& r) {
+        RoundingScope scope;
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          if (phase.cancelled()) cancelled.store(true, std::memory_order_relaxed);
+          if (cancelled.load(std::memory_order_relaxed) ||
+              sh.over_limit.load(std::memory_order_relaxed)) {
+            return;
+          }
+          SubtreeWorker w(sh);
+          w.visit(frontier[i], level, nullptr);
+          w.flush();
+          parts[i] = std::move(w.cells());
+          evals[i] = w.evaluations();
+          corner_evals[i] = w.corner_evaluations();
+          phase.advance(1);
+        }
+      });
+    });
+  }
+  if (cancelled.load()) throw Error("enclose: cancelled");
+  if (sh.over_limit.load()) {
+    throw SettingError("max_boxes: the enclosure needs more than " +
+                       std::to_string(settings.max_boxes) + " boxes at depth " +
+                       std::to_string(settings.depth) +
+                       (settings.refine_possible > 0
+                            ? " with refine_possible " + std::to_string(settings.refine_possible)
+                            : std::string()) +
+                       "; lower the depth (or refine_possible) or raise max_boxes");
+  }
+
+  // Phase 3: gather in canonical order: depth major, then subtree order, then traversal order.
+  const std::size_t depths = out.counts_by_depth.size();
+  std::vector<std::uint64_t> per(n * depths, 0);  // leaves of subtree i at depth d
+  for (std::size_t i = 0; i < n; ++i) {
+    out.evaluations += evals[i];
+    out.corner_evaluations += corner_evals[i];
+    for (const Cell& c : parts[i]) {
+      ++per[i * depths + c.depth];
+      ++out.counts_by_depth[c.depth][c.cls == CellClass::kCrossing ? 0 : 1];
+    }
+  }
+  std::vector<std::uint64_t> offset(n * depths, 0);
+  std::uint64_t total = 0;
+  for (std::size_t d = 0; d < depths; ++d) {
+    for (std::size_t i = 0; i < n; ++i) {
+      offset[i * depths + d] = total;
+      total += per[i * depths + d];
+    }
+  }
+  out.cells.resize(total);
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& r) {
+      std::vector<std::uint64_t> pos(depths);
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        for (std::size_t d = 0; d < depths; ++d) pos[d] = offset[i * depths + d];
+        for (const Cell& c : parts[i]) out.cells[pos[c.depth]++] = c;
+        std::vector<Cell>().swap(parts[i]);
+      }
+    });
+  });
+  return out;
+}
+
+}  // namespace iaa

@@ -1,0 +1,294 @@
+// `iaa enclose`: the guaranteed enclosure octree of a surface (libiaa/enclose/octree.h), written
+// as a .vtu of voxels (viz/enclosure_vtk.h) and summarised on stdout and in a JSON report.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "common/files.h"
+#include "common/progress_bar.h"
+#include "core/error.h"
+#include "enclose/octree.h"
+#include "expr/tape.h"
+#include "iaa/command.h"
+#ifdef IAA_HAVE_VIZ
+#include "viz/enclosure_vtk.h"
+#endif
+
+namespace iaa::cli {
+namespace {
+
+struct EncloseOptions {
+  std::string expr;
+  std::string bounds;
+  std::vector<std::string> params;
+  int depth = 7;
+  double cell_size = 0;
+  int refine_possible = 0;
+  std::uint64_t max_boxes = EncloseSettings{}.max_boxes;
+  std::string output;
+  std::string report;
+  int threads = 0;
+  bool quiet = false;
+};
+
+std::string fmt(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+double to_number(const std::string& s, const std::string& what) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (...) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size() || !std::isfinite(v)) {
+    throw Error(what + ": '" + s + "' is not a finite number");
+  }
+  return v;
+}
+
+Params parse_params(const std::vector<std::string>& items) {
+  Params p;
+  for (const std::string& item : items) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw Error("--param: expected NAME=VALUE, got '" + item + "'");
+    }
+    p[item.substr(0, eq)] = to_number(item.substr(eq + 1), "--param " + item.substr(0, eq));
+  }
+  return p;
+}
+
+/// Parses X0:X1,Y0:Y1,Z0:Z1; an empty or inverted range is an error.
+Box3 parse_bounds(const std::string& text) {
+  static const char* kAxis[3] = {"x", "y", "z"};
+  std::stringstream ss(text);
+  std::string range;
+  Box3 box;
+  int i = 0;
+  while (std::getline(ss, range, ',')) {
+    if (i == 3) break;
+    const auto colon = range.find(':', 1);
+    if (colon == std::string::npos) {
+      throw Error(std::string("--bounds: the ") + kAxis[i] + " range must be LO:HI, got '" + range +
+                  "'");
+    }
+    const std::string what = std::string("--bounds (") + kAxis[i] + ")";
+    box.lo[i] = to_number(range.substr(0, colon), what);
+    box.hi[i] = to_number(range.substr(colon + 1), what);
+    if (!(box.lo[i] < box.hi[i])) {
+      throw Error(std::string("--bounds: the ") + kAxis[i] + " range " + range + " is " +
+                  (box.lo[i] == box.hi[i] ? "empty" : "inverted") + "; write LO:HI with LO < HI");
+    }
+    ++i;
+  }
+  if (i != 3 || ss.rdbuf()->in_avail() > 0 || (!text.empty() && text.back() == ',')) {
+    throw Error("--bounds: expected three ranges X0:X1,Y0:Y1,Z0:Z1, got '" + text + "'");
+  }
+  return box;
+}
+
+/// The smallest depth whose cells are no larger than `size` along every axis.
+int depth_for_cell_size(const Box3& b, double size) {
+  if (!(size > 0) || !std::isfinite(size)) {
+    throw SettingError("--cell-size must be a positive number, got " + fmt(size));
+  }
+  const Vec3 e = b.size();
+  const double edge = std::fmax(e.x, std::fmax(e.y, e.z));
+  int d = 1;
+  while (d <= EncloseSettings::kMaxDepth && std::ldexp(edge, -d) > size) ++d;
+  if (d > EncloseSettings::kMaxDepth) {
+    throw SettingError(
+        "--cell-size " + fmt(size) + " needs more than depth " +
+        std::to_string(EncloseSettings::kMaxDepth) + " (the limit) for a box edge of " + fmt(edge) +
+        "; the smallest cell size here is " + fmt(std::ldexp(edge, -EncloseSettings::kMaxDepth)));
+  }
+  return d;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void run(const EncloseOptions& o) {
+  if (o.expr.empty()) throw Error("no surface: give --expr EXPR --bounds X0:X1,Y0:Y1,Z0:Z1");
+  if (o.bounds.empty()) throw Error("--bounds X0:X1,Y0:Y1,Z0:Z1 is required with --expr");
+  if (o.threads < 0)
+    throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
+#ifndef IAA_HAVE_VIZ
+  if (!o.output.empty())
+    throw Error("-o: this iaa was built without VTK (IAA_WITH_VTK=OFF); no .vtu output");
+#endif
+  if (!o.output.empty() && tools::extension_of(o.output) != "vtu") {
+    throw Error("-o: the output must be a .vtu file, got '" + o.output + "'");
+  }
+  const std::string expression = o.expr;
+  const Tape tape = Tape::parse(expression, parse_params(o.params));
+
+  EncloseSettings s;
+  s.bounds = parse_bounds(o.bounds);
+  s.depth = o.cell_size != 0 ? depth_for_cell_size(s.bounds, o.cell_size) : o.depth;
+  s.refine_possible = o.refine_possible;
+  s.max_boxes = o.max_boxes;
+  try {
+    s.validate();
+  } catch (const SettingError& e) {
+    // Name the command-line options rather than the library's setting names.
+    std::string m = e.what();
+    for (auto [from, to] :
+         {std::pair{"refine_possible", "--refine-possible"}, std::pair{"max_boxes", "--max-boxes"},
+          std::pair{"depth", "--depth"}, std::pair{"bounds", "--bounds"}}) {
+      if (m.rfind(from, 0) == 0) m = to + m.substr(std::string(from).size());
+    }
+    throw SettingError(m);
+  }
+
+  tools::ProgressBar bar(o.quiet);
+  Exec exec;
+  exec.threads = o.threads;
+  exec.progress = &bar;
+  const auto t0 = std::chrono::steady_clock::now();
+  Enclosure enc;
+  try {
+    enc = enclose(tape, s, exec);
+  } catch (const SettingError& e) {
+    std::string m = e.what();
+    if (m.rfind("max_boxes", 0) == 0) {
+      m = "--max-boxes " + std::to_string(s.max_boxes) +
+          " exceeded: the enclosure needs more boxes" + " at --depth " + std::to_string(s.depth) +
+          (s.refine_possible ? " --refine-possible " + std::to_string(s.refine_possible) : "") +
+          "; lower the depth or raise --max-boxes (no file was written)";
+    }
+    throw SettingError(m);
+  }
+  const double t_enclose = seconds_since(t0);
+  bar.finish();
+
+  double t_write = 0;
+#ifdef IAA_HAVE_VIZ
+  if (!o.output.empty()) {
+    const auto t1 = std::chrono::steady_clock::now();
+    tools::write_atomically(o.output, [&](const std::string& tmp) {
+      viz::write_enclosure_vtu(tmp, enc, viz::EnclosureInfo{expression, s});
+    });
+    t_write = seconds_since(t1);
+  }
+#endif
+
+  const std::uint64_t crossing = enc.count(CellClass::kCrossing);
+  const std::uint64_t possible = enc.count(CellClass::kPossible);
+  const Vec3 cell = s.bounds.size() / std::ldexp(1.0, s.depth);
+  std::printf("expression   %s\n", expression.c_str());
+  std::printf("bounds       [%s, %s] x [%s, %s] x [%s, %s]\n", fmt(s.bounds.lo.x).c_str(),
+              fmt(s.bounds.hi.x).c_str(), fmt(s.bounds.lo.y).c_str(), fmt(s.bounds.hi.y).c_str(),
+              fmt(s.bounds.lo.z).c_str(), fmt(s.bounds.hi.z).c_str());
+  std::printf("depth        %d (cells %.4g x %.4g x %.4g)", s.depth, cell.x, cell.y, cell.z);
+  if (s.refine_possible)
+    std::printf(", possible cells refined up to depth %d", s.depth + s.refine_possible);
+  std::printf("\n");
+  std::printf("boxes        %llu: %llu crossing (certified surface), %llu possible\n",
+              static_cast<unsigned long long>(enc.cells.size()),
+              static_cast<unsigned long long>(crossing), static_cast<unsigned long long>(possible));
+  for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
+    const auto& c = enc.counts_by_depth[d];
+    if (d > static_cast<std::size_t>(s.depth) ||
+        (s.refine_possible && d == static_cast<std::size_t>(s.depth))) {
+      std::printf("  depth %-3zu  %llu crossing, %llu possible\n", d,
+                  static_cast<unsigned long long>(c[0]), static_cast<unsigned long long>(c[1]));
+    }
+  }
+  std::printf("evaluations  %llu cells, %llu corners\n",
+              static_cast<unsigned long long>(enc.evaluations),
+              static_cast<unsigned long long>(enc.corner_evaluations));
+  std::printf("time         %.3f s enclose", t_enclose);
+  if (!o.output.empty()) std::printf(", %.3f s write", t_write);
+  std::printf(" (%d threads)\n", exec.resolved_threads());
+  if (enc.cells.empty()) {
+    std::printf(
+        "result       certified empty: 0 is outside F on every cell, so f = 0 has no point "
+        "in the bounds\n");
+  }
+  if (!o.output.empty()) std::printf("wrote        %s\n", o.output.c_str());
+
+  if (!o.report.empty()) {
+    nlohmann::json j;
+    j["expression"] = expression;
+    j["bounds"] = {{s.bounds.lo.x, s.bounds.hi.x},
+                   {s.bounds.lo.y, s.bounds.hi.y},
+                   {s.bounds.lo.z, s.bounds.hi.z}};
+    j["settings"] = {
+        {"depth", s.depth}, {"refine_possible", s.refine_possible}, {"max_boxes", s.max_boxes}};
+    j["threads"] = exec.resolved_threads();
+    j["boxes"] = enc.cells.size();
+    j["crossing"] = crossing;
+    j["possible"] = possible;
+    nlohmann::json by = nlohmann::json::array();
+    for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
+      const auto& c = enc.counts_by_depth[d];
+      if (c[0] + c[1] > 0) by.push_back({{"depth", d}, {"crossing", c[0]}, {"possible", c[1]}});
+    }
+    j["by_depth"] = by;
+    j["evaluations"] = enc.evaluations;
+    j["corner_evaluations"] = enc.corner_evaluations;
+    j["time_s"] = {{"enclose", t_enclose}, {"write", t_write}};
+    if (!o.output.empty()) j["output"] = o.output;
+    tools::write_text_atomically(o.report, j.dump(2) + "\n");
+    std::printf("report       %s\n", o.report.c_str());
+  }
+}
+
+void setup(CLI::App& app) {
+  auto o = std::make_shared<EncloseOptions>();
+  app.add_option("--expr", o->expr, "the surface f(x,y,z) = 0, e.g. 'x^2 + y^2 + z^2 - 1'");
+  app.add_option("--bounds", o->bounds, "the box X0:X1,Y0:Y1,Z0:Z1 to enclose the surface in");
+  app.add_option("-p,--param", o->params,
+                 "a named parameter NAME=VALUE of the expression (repeatable)");
+  app.add_option("-d,--depth", o->depth, "leaf depth: cells are the bounds / 2^D per axis (1..21)")
+      ->capture_default_str();
+  app.add_option("--cell-size", o->cell_size,
+                 "choose the depth so that cells are at most this large (instead of --depth)");
+  app.add_option(
+         "--refine-possible", o->refine_possible,
+         "refine possible leaves up to K levels deeper (0..8), to certify or exclude thin features")
+      ->capture_default_str();
+  app.add_option("--max-boxes", o->max_boxes,
+                 "fail (with no output) when more leaves than this are needed")
+      ->capture_default_str();
+  app.add_option("-o,--output", o->output,
+                 "write the boxes as a .vtu (VTK unstructured grid of voxels)");
+  app.add_option("--report", o->report,
+                 "write counts per class and depth, evaluations and time as JSON");
+  app.add_option("-t,--threads", o->threads,
+                 "worker threads (0: all); the result does not depend on it")
+      ->capture_default_str();
+  app.add_flag("-q,--quiet", o->quiet, "no progress bar");
+  app.footer(
+      "Every point of f = 0 inside the bounds lies in one of the boxes (outward-rounded interval\n"
+      "arithmetic). A 'crossing' box has corners of both strict signs (proved), so the surface\n"
+      "certainly passes through it; a 'possible' box could not be decided at that size.\n\n"
+      "Examples:\n"
+      "  iaa enclose --expr '0.5*x^5 + 0.5*x^4 - y^2 - z^2' --bounds -1.05:1,-1.05:1.05,-1.05:1.05 "
+      "\\\n"
+      "      --depth 7 --refine-possible 3 -o teardrop.vtu\n"
+      "  iaa enclose --expr 'x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5' --bounds "
+      "-1.1:1.1,-1.1:1.1,-1.1:1.1 \\\n"
+      "      --cell-size 0.01 -o chubs.vtu --report chubs.json\n"
+      "  iaa enclose --expr 'x^2 + y^2 + z^2 - r^2' -p r=0.5 --bounds -1:1,-1:1,-1:1 -d 5");
+  app.callback([o] { run(*o); });
+}
+
+CommandRegistrar reg{{"enclose",
+                      "boxes that provably contain the whole surface (interval octree, .vtu)", 30,
+                      setup}};
+
+}  // namespace
+}  // namespace iaa::cli
