@@ -11,6 +11,7 @@
 #include "core/vec.h"
 #include "expr/parser.h"
 #include "expr/tape.h"
+#include "render/settings.h"
 
 namespace iaa {
 
@@ -37,23 +38,37 @@ struct PointLight {
 };
 
 struct Scene {
-  std::string name;         ///< from the file name or the `name` key
-  std::string expression;   ///< the surface f(x,y,z), as written
-  Params params;            ///< named parameters of the expression
+  std::string name;                  ///< from the file name or the `name` key
+  std::string expression;            ///< the surface f(x,y,z), as written
+  Params params;                     ///< named parameters of the expression
   std::shared_ptr<const Tape> tape;  ///< compiled expression
-  Box3 bounds;              ///< nothing outside exists
+  Box3 bounds;                       ///< nothing outside exists
   Camera camera;
   int width = 500, height = 500;
   Vec3 background{1, 1, 1};
   Material material;
   std::vector<PointLight> lights;
-  bool shadows = false;
-  // Render settings that a scene may set are kept in the renderer's own settings struct; see
-  // render/render.h and docs/scene-format.md.
+  /// Render settings the scene asks for ([render] table; `shadows` lives here). Command-line
+  /// options override them.
+  RenderSettings settings;
 };
+
+/// One `--set key=value` override: a dotted key of the scene file (`camera.fov`,
+/// `render.max_level`, `surface.params.r`) and a TOML value (`30`, `[0, 1, 2]`, `"iaa"`; a bare
+/// word that is not valid TOML is taken as a string).
+struct SceneOverride {
+  std::string key;
+  std::string value;
+};
+
+/// Parses "key=value" into a SceneOverride; throws iaa::Error when there is no '='.
+SceneOverride parse_override(std::string_view text);
 
 /// Parses a scene from TOML text. `source` names the text in error messages (a path).
 /// Throws iaa::Error with the key (and line) of anything wrong; unknown keys are errors.
-Scene parse_scene(std::string_view toml_text, std::string_view source);
+/// The overrides are applied to the TOML before it is interpreted, so they are checked exactly
+/// like keys of the file.
+Scene parse_scene(std::string_view toml_text, std::string_view source,
+                  const std::vector<SceneOverride>& overrides = {});
 
 }  // namespace iaa

@@ -32,20 +32,20 @@ struct PixelRect {
 
 /// One depth piece [t0, t1] of a beam that was evaluated.
 struct DepthPieceTrace {
-  Interval t;     ///< the depth range
-  IBox box;       ///< the beam's box over t, clipped to the scene bounds
-  Interval f;     ///< F(box); empty when the box was empty (outside the bounds)
-  bool kept;      ///< false: excluded (0 not in F), true: 0 in F (may hold surface)
-  bool partial;   ///< F met a partial domain on the box
+  Interval t;    ///< the depth range
+  IBox box;      ///< the beam's box over t, clipped to the scene bounds
+  Interval f;    ///< F(box); empty when the box was empty (outside the bounds)
+  bool kept;     ///< false: excluded (0 not in F), true: 0 in F (may hold surface)
+  bool partial;  ///< F met a partial domain on the box
 };
 
 /// What the renderer did with a beam after EvalRaySet.
 enum class BeamDecision : std::uint8_t {
-  kBackground = 0,   ///< Miss: the whole area is background
-  kShadeFull = 1,    ///< Full and estimator within threshold: shaded once
-  kShadeLeaf = 2,    ///< at max_level: shaded as surface (uncertain when Partial)
-  kSplit = 3,        ///< split into 4 sub-beams
-  kDescend = 4,      ///< screen-block elimination: passed on to smaller blocks
+  kBackground = 0,  ///< Miss: the whole area is background
+  kShadeFull = 1,   ///< Full and estimator within threshold: shaded once
+  kShadeLeaf = 2,   ///< at max_level: shaded as surface (uncertain when Partial)
+  kSplit = 3,       ///< split into 4 sub-beams
+  kDescend = 4,     ///< screen-block elimination: passed on to smaller blocks
 };
 const char* beam_decision_name(BeamDecision d);
 
@@ -54,13 +54,13 @@ const char* beam_decision_name(BeamDecision d);
 struct BeamTrace {
   PixelRect rect;
   int level = 0;
-  int parent = -1;              ///< index of the parent in PixelTrace::beams, -1 for the root
-  Interval searched;            ///< depth range searched ([parent t_near, ...])
+  int parent = -1;    ///< index of the parent in PixelTrace::beams, -1 for the root
+  Interval searched;  ///< depth range searched ([parent t_near, ...])
   std::vector<DepthPieceTrace> pieces;  ///< every piece evaluated, in order
   BeamResult result = BeamResult::kMiss;
   double t_near = 0, t_far = 0;  ///< t_far only meaningful for kFull
-  IBox hit_box;                 ///< box of the beam over [t_near, t_far] (Full) or the kept piece
-  std::string full_reason;      ///< why full coverage was or was not certified
+  IBox hit_box;                  ///< box of the beam over [t_near, t_far] (Full) or the kept piece
+  std::string full_reason;       ///< why full coverage was or was not certified
   Interval estimator = Interval::empty();  ///< the estimator interval (empty when not computed)
   BeamDecision decision = BeamDecision::kBackground;
   // Shading (for kShadeFull / kShadeLeaf).

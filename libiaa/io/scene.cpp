@@ -1,0 +1,343 @@
+// Scene files in TOML (docs/scene-format.md). Every key is looked up by name; whatever is left
+// over in a table is an unknown key and an error that names it.
+#include "io/scene.h"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include <toml++/toml.h>
+
+#include "core/error.h"
+#include "expr/eval_interval.h"
+#include "render/camera.h"
+
+namespace iaa {
+
+namespace {
+
+/// Largest image edge and pixel count a scene may ask for.
+constexpr int kMaxEdge = 16384;
+constexpr long long kMaxPixels = 64LL * 1024 * 1024;
+
+/// Reads one table, remembering which keys were used so that the rest can be reported.
+class TableReader {
+ public:
+  TableReader(const toml::table& t, std::string prefix, const std::string& source)
+      : t_(t), prefix_(std::move(prefix)), source_(source) {}
+
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    std::string where = source_;
+    if (const toml::node* n = t_.get(key)) {
+      const auto& b = n->source().begin;
+      if (b.line > 0) where.append(":").append(std::to_string(b.line));
+    }
+    throw Error(where + ": key '" + prefix_ + key + "': " + what);
+  }
+  const toml::node* get(const std::string& key) {
+    used_.insert(key);
+    return t_.get(key);
+  }
+  bool has(const std::string& key) const { return t_.contains(key); }
+
+  double number(const std::string& key, double def, double lo, double hi) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    double v = 0;
+    if (auto i = n->value_exact<int64_t>()) {
+      v = static_cast<double>(*i);
+    } else if (auto d = n->value_exact<double>()) {
+      v = *d;
+    } else {
+      fail(key, "expected a number");
+    }
+    if (!std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream m;
+      m << "must be a finite number in [" << lo << ", " << hi << "], got " << v;
+      fail(key, m.str());
+    }
+    return v;
+  }
+  int integer(const std::string& key, int def, int lo, int hi) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    auto i = n->value_exact<int64_t>();
+    if (!i) fail(key, "expected an integer");
+    if (*i < lo || *i > hi) {
+      fail(key, "must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                    "], got " + std::to_string(*i));
+    }
+    return static_cast<int>(*i);
+  }
+  bool boolean(const std::string& key, bool def) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    auto b = n->value_exact<bool>();
+    if (!b) fail(key, "expected true or false");
+    return *b;
+  }
+  std::string string(const std::string& key, const std::string& def) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    auto s = n->value_exact<std::string>();
+    if (!s) fail(key, "expected a string");
+    return *s;
+  }
+  Vec3 vec3(const std::string& key, Vec3 def, double lo = -1e12, double hi = 1e12) {
+    const toml::node* n = get(key);
+    if (!n) return def;
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 3) fail(key, "expected an array of three numbers [x, y, z]");
+    Vec3 v;
+    for (std::size_t i = 0; i < 3; ++i) {
+      const toml::node& e = *a->get(i);
+      double d = 0;
+      if (auto ii = e.value_exact<int64_t>()) {
+        d = static_cast<double>(*ii);
+      } else if (auto dd = e.value_exact<double>()) {
+        d = *dd;
+      } else {
+        fail(key, "expected an array of three numbers [x, y, z]");
+      }
+      if (!std::isfinite(d) || d < lo || d > hi) {
+        std::ostringstream m;
+        m << "components must be finite numbers in [" << lo << ", " << hi << "]";
+        fail(key, m.str());
+      }
+      v[static_cast<int>(i)] = d;
+    }
+    return v;
+  }
+  const toml::table* table(const std::string& key) {
+    const toml::node* n = get(key);
+    if (!n) return nullptr;
+    const toml::table* t = n->as_table();
+    if (!t) fail(key, "expected a table");
+    return t;
+  }
+  /// Throws for the first key that was not read.
+  void check_unknown() const {
+    for (const auto& [k, v] : t_) {
+      const std::string key(k.str());
+      if (!used_.count(key)) {
+        std::string where = source_;
+        if (v.source().begin.line > 0)
+          where.append(":").append(std::to_string(v.source().begin.line));
+        where.append(": unknown key '")
+            .append(prefix_)
+            .append(key)
+            .append("' (see docs/scene-format.md)");
+        throw Error(where);
+      }
+    }
+  }
+
+ private:
+  const toml::table& t_;
+  std::string prefix_;
+  const std::string& source_;
+  std::set<std::string> used_;
+};
+
+/// Parses an override's value as TOML, or takes it as a string when it is not valid TOML.
+void apply_override(toml::table& root, const SceneOverride& o, const std::string& source) {
+  if (o.key.empty()) throw Error("--set: empty key");
+  std::vector<std::string> parts;
+  std::stringstream ss(o.key);
+  std::string part;
+  while (std::getline(ss, part, '.')) {
+    if (part.empty()) throw Error("--set " + o.key + ": empty part in the dotted key");
+    parts.push_back(part);
+  }
+  toml::table* t = &root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* n = t->get(parts[i]);
+    if (!n) {
+      t->insert(parts[i], toml::table{});
+      n = t->get(parts[i]);
+    }
+    t = n->as_table();
+    if (!t) throw Error("--set " + o.key + ": '" + parts[i] + "' is not a table in " + source);
+  }
+  toml::table value_doc;
+  try {
+    value_doc = toml::parse("v = " + o.value);
+  } catch (const toml::parse_error&) {
+    value_doc = toml::table{};
+    value_doc.insert("v", o.value);
+  }
+  t->insert_or_assign(parts.back(), *value_doc.get("v"));
+}
+
+}  // namespace
+
+SceneOverride parse_override(std::string_view text) {
+  const auto eq = text.find('=');
+  if (eq == std::string_view::npos || eq == 0) {
+    throw Error("--set: expected KEY=VALUE (e.g. camera.fov=30), got '" + std::string(text) + "'");
+  }
+  return {std::string(text.substr(0, eq)), std::string(text.substr(eq + 1))};
+}
+
+Scene parse_scene(std::string_view text, std::string_view source_view,
+                  const std::vector<SceneOverride>& overrides) {
+  const std::string source(source_view);
+  toml::table root;
+  try {
+    root = toml::parse(text, source_view);
+  } catch (const toml::parse_error& e) {
+    throw ParseError(std::string(source) + ": " + std::string(e.description()),
+                     static_cast<int>(e.source().begin.line),
+                     static_cast<int>(e.source().begin.column));
+  }
+  for (const SceneOverride& o : overrides) apply_override(root, o, source);
+
+  Scene s;
+  TableReader top(root, "", source);
+  s.name = top.string("name", "");
+  if (s.name.empty()) {
+    // The file name without directory and extension.
+    std::string n = source;
+    if (auto p = n.find_last_of('/'); p != std::string::npos) n = n.substr(p + 1);
+    if (auto p = n.rfind('.'); p != std::string::npos && p > 0) n = n.substr(0, p);
+    s.name = n;
+  }
+  top.string("description", "");
+
+  // [surface]
+  const toml::table* surf = top.table("surface");
+  if (!surf) throw Error(source + ": missing table [surface] with the expression and bounds");
+  {
+    TableReader r(*surf, "surface.", source);
+    if (!r.has("expression")) r.fail("expression", "missing: the surface f(x,y,z) as a string");
+    s.expression = r.string("expression", "");
+    if (const toml::table* pt = r.table("params")) {
+      for (const auto& [k, v] : *pt) {
+        const std::string name(k.str());
+        double d = 0;
+        if (auto i = v.value_exact<int64_t>()) {
+          d = static_cast<double>(*i);
+        } else if (auto f = v.value_exact<double>()) {
+          d = *f;
+        } else {
+          throw Error(source + ": key 'surface.params." + name + "': expected a number");
+        }
+        if (!std::isfinite(d))
+          throw Error(source + ": key 'surface.params." + name + "': must be finite");
+        if (is_reserved_name(name)) {
+          throw Error(source + ": key 'surface.params." + name + "': '" + name +
+                      "' is a reserved name (x y z pi e or a function)");
+        }
+        s.params[name] = d;
+      }
+    }
+    if (!r.has("min")) r.fail("min", "missing: the bounding box's low corner [x, y, z]");
+    if (!r.has("max")) r.fail("max", "missing: the bounding box's high corner [x, y, z]");
+    s.bounds.lo = r.vec3("min", {}, -1e6, 1e6);
+    s.bounds.hi = r.vec3("max", {}, -1e6, 1e6);
+    for (int i = 0; i < 3; ++i) {
+      if (!(s.bounds.lo[i] < s.bounds.hi[i])) {
+        r.fail("max", "the box is empty: max must exceed min on every axis");
+      }
+    }
+    r.check_unknown();
+    try {
+      s.tape = std::make_shared<const Tape>(Tape::parse(s.expression, s.params));
+    } catch (const ParseError& e) {
+      throw ParseError(source + ": key 'surface.expression': " + e.bare_message(), e.line(),
+                       e.column());
+    }
+    // An expression undefined everywhere in the box can show nothing: say so rather than
+    // render an empty picture.
+    IntervalEval ie(*s.tape);
+    if (ie.eval(s.bounds).is_empty()) {
+      throw Error(source +
+                  ": key 'surface.expression': f is undefined (NaN) everywhere in the bounds");
+    }
+  }
+
+  // [camera]
+  if (const toml::table* cam = top.table("camera")) {
+    TableReader r(*cam, "camera.", source);
+    s.camera.eye = r.vec3("eye", s.camera.eye);
+    s.camera.look_at = r.vec3("look_at", s.camera.look_at);
+    s.camera.up = r.vec3("up", s.camera.up);
+    s.camera.fov_deg = r.number("fov", s.camera.fov_deg, 1e-3, 179.0);
+    r.check_unknown();
+    try {
+      validate_camera(s.camera);
+    } catch (const Error& e) {
+      throw Error(source + ": [camera]: " + e.what());
+    }
+  }
+
+  // [image]
+  if (const toml::table* img = top.table("image")) {
+    TableReader r(*img, "image.", source);
+    s.width = r.integer("width", s.width, 1, kMaxEdge);
+    s.height = r.integer("height", s.height, 1, kMaxEdge);
+    s.background = r.vec3("background", s.background, 0.0, 1.0);
+    if (static_cast<long long>(s.width) * s.height > kMaxPixels) {
+      r.fail("height", "image too large (" + std::to_string(s.width) + "x" +
+                           std::to_string(s.height) + "; at most " + std::to_string(kMaxPixels) +
+                           " pixels)");
+    }
+    r.check_unknown();
+  }
+
+  // [material]
+  if (const toml::table* mat = top.table("material")) {
+    TableReader r(*mat, "material.", source);
+    s.material.color = r.vec3("color", s.material.color, 0.0, 1.0);
+    s.material.ambient = r.number("ambient", s.material.ambient, 0.0, 1.0);
+    s.material.diffuse = r.number("diffuse", s.material.diffuse, 0.0, 1.0);
+    s.material.specular = r.number("specular", s.material.specular, 0.0, 1.0);
+    s.material.shininess = r.number("shininess", s.material.shininess, 1.0, 10000.0);
+    r.check_unknown();
+  }
+
+  // [[light]]
+  if (const toml::node* ln = top.get("light")) {
+    const toml::array* arr = ln->as_array();
+    if (!arr || !arr->is_array_of_tables()) {
+      throw Error(source + ": key 'light': expected an array of tables [[light]]");
+    }
+    int i = 0;
+    for (const toml::node& e : *arr) {
+      TableReader r(*e.as_table(), "light[" + std::to_string(i++) + "].", source);
+      PointLight l;
+      if (!r.has("position")) r.fail("position", "missing: where the light is [x, y, z]");
+      l.position = r.vec3("position", l.position);
+      l.color = r.vec3("color", l.color, 0.0, 100.0);
+      r.check_unknown();
+      s.lights.push_back(l);
+    }
+  }
+  if (s.lights.empty()) s.lights.push_back(PointLight{});
+
+  // [render]
+  if (const toml::table* rt = top.table("render")) {
+    TableReader r(*rt, "render.", source);
+    RenderSettings& st = s.settings;
+    if (r.has("method")) {
+      const std::string m = r.string("method", "iaa");
+      try {
+        st.method = parse_method(m, &st.grid_n);
+      } catch (const Error& e) {
+        r.fail("method", e.what());
+      }
+    }
+    st.grid_n = r.integer("grid", st.grid_n, 1, RenderSettings::kMaxGrid);
+    st.max_level = r.integer("max_level", st.max_level, 0, RenderSettings::kMaxLevel);
+    st.estimator_threshold = r.number("estimator_threshold", st.estimator_threshold, 0.0, 2.0);
+    st.depth_tolerance = r.number("depth_tolerance", st.depth_tolerance, 1e-6, 1e3);
+    st.adaptive_threshold = r.number("adaptive_threshold", st.adaptive_threshold, 0.0, 1.0);
+    st.shadows = r.boolean("shadows", st.shadows);
+    r.check_unknown();
+  }
+  top.check_unknown();
+  return s;
+}
+
+}  // namespace iaa

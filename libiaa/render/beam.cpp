@@ -1,0 +1,151 @@
+#include "render/beam.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "render/camera.h"
+
+namespace iaa {
+
+namespace {
+
+struct Stack {
+  std::array<std::pair<double, double>, 2200> items;
+  int n = 0;
+  void push(double a, double b) {
+    if (n < static_cast<int>(items.size())) items[static_cast<std::size_t>(n++)] = {a, b};
+  }
+  bool pop(double* a, double* b) {
+    if (n == 0) return false;
+    const auto& p = items[static_cast<std::size_t>(--n)];
+    *a = p.first;
+    *b = p.second;
+    return true;
+  }
+};
+
+/// Sign of F on the (unclipped) slice of the beam at depth t: +1 / -1 when proved with intervals
+/// on a slice inside the bounds without partial domain, else 0.
+int slice_sign(RenderContext& ctx, const IBox& dirs, double t) {
+  const IBox slice = segment_box(ctx.setup.frame.eye, dirs, Interval(t));
+  if (!box_inside(slice, ctx.bounds())) return 0;
+  bool partial = false;
+  const Interval f = ctx.eval(slice, &partial);
+  if (partial) return 0;
+  return f.certainly_positive() ? 1 : (f.certainly_negative() ? -1 : 0);
+}
+
+}  // namespace
+
+BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
+                        BeamTrace* trace) {
+  BeamSearch out;
+  const RenderSetup& su = ctx.setup;
+  const Vec3& eye = su.frame.eye;
+  out.dirs = su.frame.dir_box(rect);
+  if (trace) trace->searched = range;
+  if (range.is_empty()) return out;
+  // Lateral extent of the beam per unit depth (pixels -> world), for the stopping rule.
+  const double lateral = std::max(rect.width(), rect.height()) * su.frame.scale;
+  const double abs_floor = 1e-12 * std::max(1.0, range.hi());
+  const double tol_factor = su.settings.depth_tolerance;
+
+  Stack st;
+  st.push(range.lo(), range.hi());
+  double a = 0, b = 0;
+  bool found = false;
+  bool kept_partial = false;
+  while (st.pop(&a, &b)) {
+    const IBox box = clip_box(segment_box(eye, out.dirs, Interval(a, b)), ctx.bounds());
+    if (box.is_empty()) {
+      if (trace) trace->pieces.push_back({Interval(a, b), box, Interval::empty(), false, false});
+      continue;
+    }
+    bool partial = false;
+    const Interval f = ctx.eval(box, &partial);
+    const bool kept = !f.is_empty() && f.contains_zero();
+    if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial});
+    if (!kept) continue;
+    const double m = 0.5 * (a + b);
+    if (b - a <= std::max(abs_floor, tol_factor * lateral * b) || m <= a || m >= b) {
+      found = true;
+      kept_partial = partial;
+      out.hit_box = box;
+      break;
+    }
+    st.push(m, b);
+    st.push(a, m);
+  }
+  if (!found) {
+    out.result = BeamResult::kMiss;
+    if (trace) {
+      trace->result = out.result;
+      trace->full_reason = "every depth piece excluded 0";
+    }
+    return out;
+  }
+  out.t_near = a;
+  out.t_far = range.hi();
+  out.result = BeamResult::kPartial;
+
+  // Full coverage: opposite proved signs on the slices at t_near and at some t_far >= t_near,
+  // with the box of [t_near, t_far] inside the bounds and f continuous on it.
+  const char* reason = "";
+  const int s_near = slice_sign(ctx, out.dirs, a);
+  if (s_near == 0) {
+    reason = "no proved sign on the slice at t_near";
+  } else {
+    reason = "no slice with the opposite sign found";
+    double w = b - a;
+    double tf = b;
+    for (int k = 0; k < 4 && tf <= range.hi(); ++k) {
+      const int s_far = slice_sign(ctx, out.dirs, tf);
+      if (s_far == -s_near) {
+        const IBox seg = segment_box(eye, out.dirs, Interval(a, tf));
+        if (!box_inside(seg, ctx.bounds())) {
+          reason = "corner rays leave the bounds before t_far";
+          break;
+        }
+        bool partial = false;
+        if (su.may_partial) ctx.eval(seg, &partial);
+        if (partial) {
+          reason = "f may be undefined or discontinuous between t_near and t_far";
+          break;
+        }
+        out.result = BeamResult::kFull;
+        out.t_far = tf;
+        out.hit_box = seg;
+        reason = "sign change proved between the slices at t_near and t_far";
+        break;
+      }
+      tf += w;
+      w *= 2;
+    }
+  }
+  (void)kept_partial;
+  if (trace) {
+    trace->result = out.result;
+    trace->t_near = out.t_near;
+    trace->t_far = out.t_far;
+    trace->hit_box = out.hit_box;
+    trace->full_reason = reason;
+  }
+  return out;
+}
+
+Interval beam_estimator(RenderContext& ctx, const BeamSearch& s) {
+  bool partial = false;
+  const IGrad g = ctx.eval_grad(s.hit_box, &partial);
+  if (partial) return Interval::whole();
+  const Interval n2 = square(g.g[0]) + square(g.g[1]) + square(g.g[2]);
+  if (!(n2.lo() > 0.0) || !n2.is_finite()) return Interval::whole();
+  Domain dom = Domain::kFull;
+  const Interval inv_n = Interval(1.0) / sqrt(n2, &dom);
+  const Interval d2 = square(s.dirs.x) + square(s.dirs.y) + square(s.dirs.z);
+  const Interval inv_d = Interval(1.0) / sqrt(d2, &dom);
+  const Interval dot = (g.g[0] * s.dirs.x + g.g[1] * s.dirs.y + g.g[2] * s.dirs.z) * inv_n * inv_d;
+  return dot;
+}
+
+}  // namespace iaa

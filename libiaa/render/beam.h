@@ -1,0 +1,39 @@
+// EvalRaySet (DESIGN.md, "Beams and the depth search"; the paper's Fig. 2, made sound).
+//
+// A beam is a rectangle R of pixel coordinates; its segment over depths [t0, t1] is enclosed by
+// the outward-rounded box of its 8 corners, clipped to the scene bounds. The depth range is
+// searched front to back by bisection; a piece whose box gives 0 not in F is certified empty.
+// - Miss: every piece was excluded. Certified: no ray of the beam meets the surface there.
+// - Full: a sign change between the slices at t_near and t_far, proved with intervals on slices
+//   inside the bounds, with f continuous (no partial domain) on the box of [t_near, t_far].
+//   Certified: every ray of the beam meets the surface in [t_near, t_far].
+// - Partial: anything else. Some ray may hit; none hits before t_near.
+#pragma once
+
+#include "core/interval.h"
+#include "render/context.h"
+#include "render/trace.h"
+
+namespace iaa {
+
+/// What EvalRaySet found for one beam.
+struct BeamSearch {
+  BeamResult result = BeamResult::kMiss;
+  double t_near = 0;  ///< no ray of the beam meets the surface before it (not for kMiss)
+  double t_far = 0;   ///< kFull: every ray meets the surface at or before it; else the end searched
+  IBox hit_box;       ///< kFull: box over [t_near, t_far]; kPartial: box of the kept piece
+  IBox dirs;          ///< enclosure of the beam's directions
+};
+
+/// Runs EvalRaySet on the beam `rect` over depths `range`. A piece stops being bisected when its
+/// depth extent is at most settings.depth_tolerance times the beam's lateral width at its far
+/// end. Records every piece into `trace` when it is not null. Needs a RoundingScope.
+BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
+                        BeamTrace* trace);
+
+/// The estimator of a Full beam (DESIGN.md, "IAA pixel subdivision", step 3): the interval dot
+/// product of the unit normal grad F / |grad F| over the hit box with the unit beam direction.
+/// Returns the whole line when |grad F| cannot be bounded away from 0 (or f is partial there).
+Interval beam_estimator(RenderContext& ctx, const BeamSearch& s);
+
+}  // namespace iaa

@@ -1,0 +1,59 @@
+// Per-task state of a render: the scene's derived data shared by every part of the renderer and
+// one set of evaluators (they own scratch space, so one per task/thread, never shared).
+#pragma once
+
+#include <cstdint>
+
+#include "expr/eval_interval.h"
+#include "expr/eval_interval_grad.h"
+#include "expr/eval_point.h"
+#include "expr/eval_point_grad.h"
+#include "io/scene.h"
+#include "render/camera.h"
+#include "render/settings.h"
+
+namespace iaa {
+
+/// Read-only facts of one render, computed once.
+struct RenderSetup {
+  const Scene* scene;
+  RenderSettings settings;
+  CameraFrame frame;
+  Interval depth;     ///< depth range of the bounds in front of the eye (may be empty)
+  bool may_partial;   ///< the tape has operations that can be undefined or discontinuous
+  double diag;        ///< diagonal of the bounds
+  double ray_tol;     ///< depth tolerance of point rays (absolute)
+  double shadow_eps;  ///< offset of shadow-ray origins along the normal
+
+  RenderSetup(const Scene& scene, const RenderSettings& settings);
+};
+
+/// Evaluators and counters of one task.
+struct RenderContext {
+  const RenderSetup& setup;
+  IntervalEval ie;
+  IntervalGradEval ig;
+  PointGradEval pg;
+  std::uint64_t evals = 0;  ///< interval evaluations so far (both interval modes)
+
+  explicit RenderContext(const RenderSetup& s)
+      : setup(s), ie(*s.scene->tape), ig(*s.scene->tape), pg(*s.scene->tape) {}
+
+  /// F over a box, counted. `partial` receives partial_domain().
+  Interval eval(const IBox& b, bool* partial = nullptr) {
+    ++evals;
+    const Interval f = ie.eval(b);
+    if (partial) *partial = ie.partial_domain();
+    return f;
+  }
+  /// F and its gradient over a box, counted.
+  IGrad eval_grad(const IBox& b, bool* partial = nullptr) {
+    ++evals;
+    const IGrad g = ig.eval(b);
+    if (partial) *partial = ig.partial_domain();
+    return g;
+  }
+  const Box3& bounds() const { return setup.scene->bounds; }
+};
+
+}  // namespace iaa

@@ -1,0 +1,134 @@
+#include "render/ray_search.h"
+
+#include <array>
+#include <cmath>
+
+#include "render/camera.h"
+
+namespace iaa {
+
+namespace {
+
+/// Bisection stack of depth pieces; deep enough for any double range (each level halves).
+struct PieceStack {
+  std::array<std::pair<double, double>, 2200> items;
+  int n = 0;
+  void push(double a, double b) {
+    if (n < static_cast<int>(items.size())) items[static_cast<std::size_t>(n++)] = {a, b};
+  }
+  bool pop(double* a, double* b) {
+    if (n == 0) return false;
+    const auto& p = items[static_cast<std::size_t>(--n)];
+    *a = p.first;
+    *b = p.second;
+    return true;
+  }
+};
+
+Interval dot(const std::array<Interval, 3>& g, const IBox& d) {
+  return g[0] * d.x + g[1] * d.y + g[2] * d.z;
+}
+
+/// Sign of f at the exact point origin + t * dir: +1, -1, or 0 when intervals cannot tell.
+int sign_at(RenderContext& ctx, const Vec3& o, const IBox& dir, double t) {
+  const IBox p = segment_box(o, dir, Interval(t));
+  if (!box_inside(p, ctx.bounds())) return 0;
+  const Interval f = ctx.eval(p);
+  return f.certainly_positive() ? 1 : (f.certainly_negative() ? -1 : 0);
+}
+
+}  // namespace
+
+RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol) {
+  RayHit out;
+  if (range.is_empty()) return out;
+  PieceStack st;
+  st.push(range.lo(), range.hi());
+  // Newton is tried once pieces are this narrow; wider pieces rarely have F' away from 0.
+  const double newton_width = std::max(tol, range.width() / 32.0);
+  double a = 0, b = 0;
+  while (st.pop(&a, &b)) {
+    const IBox box = clip_box(segment_box(o, dir, Interval(a, b)), ctx.bounds());
+    if (box.is_empty()) continue;
+    bool partial = false;
+    const Interval f = ctx.eval(box, &partial);
+    if (f.is_empty() || !f.contains_zero()) continue;
+    const double m = 0.5 * (a + b);
+    if (b - a <= tol || m <= a || m >= b) {
+      out.hit = true;
+      out.t = Interval(a, b);
+      // Certify by a strict sign change at the ends of a piece where f is continuous.
+      if (!partial) {
+        const int sa = sign_at(ctx, o, dir, a), sb = sign_at(ctx, o, dir, b);
+        out.certified = sa != 0 && sb != 0 && sa != sb;
+      }
+      return out;
+    }
+    if (b - a <= newton_width && !partial) {
+      // Interval Newton on g(t) = f(o + t dir): every root t* of [a, b] lies in
+      // m - G(m) / G'([a, b]) when G' excludes 0 (mean value theorem).
+      bool gpartial = false;
+      const IGrad g = ctx.eval_grad(box, &gpartial);
+      const Interval fp = dot(g.g, dir);
+      if (!gpartial && !fp.contains_zero()) {
+        double lo = a, hi = b;
+        bool proved = false, excluded = false;
+        for (int it = 0; it < 40; ++it) {
+          const double mm = 0.5 * (lo + hi);
+          const Interval fm = ctx.eval(segment_box(o, dir, Interval(mm)));
+          const Interval n = Interval(mm) - fm / fp;
+          const Interval next = intersect(n, Interval(lo, hi));
+          if (next.is_empty()) {
+            excluded = true;  // no root in [lo, hi]
+            break;
+          }
+          if (n.lo() > lo && n.hi() < hi) proved = true;  // N inside: a unique root exists
+          const bool shrunk = next.width() < 0.5 * (hi - lo);
+          lo = next.lo();
+          hi = next.hi();
+          if (hi - lo <= tol || !shrunk) break;
+        }
+        if (excluded) continue;
+        if (proved && hi - lo <= tol) {
+          out.hit = true;
+          out.certified = true;
+          out.t = Interval(lo, hi);
+          return out;
+        }
+        // Not converged: bisect what is left.
+        const double m2 = 0.5 * (lo + hi);
+        if (m2 > lo && m2 < hi) {
+          st.push(m2, hi);
+          st.push(lo, m2);
+        } else {
+          st.push(lo, hi);
+        }
+        continue;
+      }
+    }
+    st.push(m, b);
+    st.push(a, m);
+  }
+  return out;
+}
+
+bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range,
+                     double tol) {
+  if (range.is_empty()) return false;
+  PieceStack st;
+  st.push(range.lo(), range.hi());
+  double a = 0, b = 0;
+  while (st.pop(&a, &b)) {
+    const IBox box = clip_box(segment_box(o, dir, Interval(a, b)), ctx.bounds());
+    if (box.is_empty()) continue;
+    const Interval f = ctx.eval(box);
+    if (f.is_empty() || !f.contains_zero()) continue;
+    const double m = 0.5 * (a + b);
+    if (b - a <= tol || m <= a || m >= b) return true;
+    st.push(m, b);
+    st.push(a, m);
+  }
+  return false;
+}
+
+}  // namespace iaa

@@ -1,0 +1,30 @@
+// The guaranteed 1D search along one ray (DESIGN.md, "Point-sampled baselines"): bisection of the
+// depth range with interval F, discarding pieces with 0 not in F, the first remaining piece
+// narrowed by interval Newton where F' excludes 0. A ray's root is never skipped.
+#pragma once
+
+#include "core/interval.h"
+#include "core/vec.h"
+#include "render/context.h"
+
+namespace iaa {
+
+/// The first root along a ray, as far as intervals can tell.
+struct RayHit {
+  bool hit = false;        ///< some piece of width <= tol could not be excluded
+  bool certified = false;  ///< a root is proved in `t` (sign change or interval Newton)
+  Interval t;              ///< enclosure of the first possible root (when hit)
+};
+
+/// Searches origin + t * dir for t in `range`, front to back, inside the scene bounds. `dir` is
+/// an enclosure of the exact direction (a degenerate box for a double direction). Pieces are
+/// narrowed to width `tol`. Needs a RoundingScope.
+RayHit search_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
+                  double tol);
+
+/// True when some point of the segment origin + s * dir, s in range, may lie on the surface
+/// (a shadow ray). Stops at the first piece of width <= tol that still contains 0.
+bool segment_may_hit(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
+                     double tol);
+
+}  // namespace iaa

@@ -1,0 +1,152 @@
+#include "render/settings.h"
+
+#include <cctype>
+#include <string>
+
+#include "core/error.h"
+#include "render/film.h"
+#include "render/trace.h"
+
+namespace iaa {
+
+std::string_view method_name(RenderMethod m) {
+  switch (m) {
+    case RenderMethod::kIaa:
+      return "iaa";
+    case RenderMethod::kPoint:
+      return "point";
+    case RenderMethod::kGrid:
+      return "grid";
+    case RenderMethod::kAdaptive:
+      return "adaptive";
+  }
+  return "?";
+}
+
+RenderMethod parse_method(std::string_view text, int* grid_n) {
+  std::string t;
+  for (char c : text) {
+    if (c != ' ') t.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  }
+  if (t == "iaa") return RenderMethod::kIaa;
+  if (t == "point") return RenderMethod::kPoint;
+  if (t == "adaptive") return RenderMethod::kAdaptive;
+  if (t.rfind("grid", 0) == 0) {
+    const std::string n = t.substr(4);
+    if (!n.empty()) {
+      int v = 0;
+      for (char c : n) {
+        if (!std::isdigit(static_cast<unsigned char>(c)) || v > 1000) {
+          throw SettingError("method: 'grid N' needs an integer N in [1, " +
+                             std::to_string(RenderSettings::kMaxGrid) + "], got '" +
+                             std::string(text) + "'");
+        }
+        v = v * 10 + (c - '0');
+      }
+      if (v < 1 || v > RenderSettings::kMaxGrid) {
+        throw SettingError("method: grid N must be in [1, " +
+                           std::to_string(RenderSettings::kMaxGrid) + "], got " +
+                           std::to_string(v));
+      }
+      if (grid_n) *grid_n = v;
+    }
+    return RenderMethod::kGrid;
+  }
+  throw SettingError("method: unknown method '" + std::string(text) +
+                     "' (expected iaa, point, grid N or adaptive)");
+}
+
+void RenderSettings::validate() const {
+  if (grid_n < 1 || grid_n > kMaxGrid) {
+    throw SettingError("grid: N must be in [1, " + std::to_string(kMaxGrid) + "], got " +
+                       std::to_string(grid_n));
+  }
+  if (max_level < 0 || max_level > kMaxLevel) {
+    throw SettingError("max_level must be in [0, " + std::to_string(kMaxLevel) + "], got " +
+                       std::to_string(max_level));
+  }
+  if (!(estimator_threshold >= 0.0 && estimator_threshold <= 2.0)) {
+    throw SettingError("estimator_threshold must be in [0, 2], got " +
+                       std::to_string(estimator_threshold));
+  }
+  if (!(depth_tolerance >= 1e-6 && depth_tolerance <= 1e3)) {
+    throw SettingError("depth_tolerance must be in [1e-6, 1e3], got " +
+                       std::to_string(depth_tolerance));
+  }
+  if (!(adaptive_threshold >= 0.0 && adaptive_threshold <= 1.0)) {
+    throw SettingError("adaptive_threshold must be in [0, 1], got " +
+                       std::to_string(adaptive_threshold));
+  }
+}
+
+void RenderSettings::validate_window(int width, int height) const {
+  if (window.x0 == 0 && window.y0 == 0 && window.x1 == 0 && window.y1 == 0) return;  // all
+  const auto w = [&] {
+    return std::to_string(window.x0) + "," + std::to_string(window.y0) + "," +
+           std::to_string(window.x1) + "," + std::to_string(window.y1);
+  };
+  if (window.x0 < 0 || window.y0 < 0 || window.x1 > width || window.y1 > height || window.empty()) {
+    throw SettingError("window " + w() + " must satisfy 0 <= X0 < X1 <= " + std::to_string(width) +
+                       " and 0 <= Y0 < Y1 <= " + std::to_string(height) + " (the image is " +
+                       std::to_string(width) + "x" + std::to_string(height) + ")");
+  }
+}
+
+const char* beam_result_name(BeamResult r) {
+  switch (r) {
+    case BeamResult::kMiss:
+      return "miss";
+    case BeamResult::kFull:
+      return "full";
+    case BeamResult::kPartial:
+      return "partial";
+  }
+  return "?";
+}
+
+const char* beam_decision_name(BeamDecision d) {
+  switch (d) {
+    case BeamDecision::kBackground:
+      return "background";
+    case BeamDecision::kShadeFull:
+      return "shade-full";
+    case BeamDecision::kShadeLeaf:
+      return "shade-leaf";
+    case BeamDecision::kSplit:
+      return "split";
+    case BeamDecision::kDescend:
+      return "descend";
+  }
+  return "?";
+}
+
+const char* certificate_name(PixelCertificate c) {
+  switch (c) {
+    case PixelCertificate::kEmpty:
+      return "empty";
+    case PixelCertificate::kCovered:
+      return "covered";
+    case PixelCertificate::kUncertain:
+      return "uncertain";
+    case PixelCertificate::kNotRendered:
+      return "not-rendered";
+  }
+  return "?";
+}
+
+Film::Film(int w, int h)
+    : width(w),
+      height(h),
+      color(std::size_t(w) * std::size_t(h)),
+      certificate(std::size_t(w) * std::size_t(h), PixelCertificate::kNotRendered),
+      leaves(std::size_t(w) * std::size_t(h), 0),
+      evals(std::size_t(w) * std::size_t(h), 0),
+      coverage(std::size_t(w) * std::size_t(h), 0.0f) {}
+
+std::vector<std::uint8_t> Film::certificate_bytes() const {
+  std::vector<std::uint8_t> out(certificate.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<std::uint8_t>(certificate[i]);
+  return out;
+}
+
+}  // namespace iaa
