@@ -167,7 +167,10 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
 }
 
 void write_enclosure_vtu(const std::string& path, const Enclosure& enc, const EnclosureInfo& info) {
-  vtkSmartPointer<vtkUnstructuredGrid> grid = enclosure_to_grid(enc, info);
+  write_grid_vtu(path, enclosure_to_grid(enc, info));
+}
+
+void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid) {
   auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
   writer->SetFileName(path.c_str());
   writer->SetInputData(grid);

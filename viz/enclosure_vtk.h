@@ -44,6 +44,9 @@ struct EnclosureFile {
   bool points_match_boxes = false;
 };
 
+/// Writes a grid made by enclosure_to_grid with the same writer settings (for timing the parts).
+void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid);
+
 /// Reads a .vtu written by write_enclosure_vtu with vtkXMLUnstructuredGridReader. Throws
 /// iaa::Error when the file is missing, unreadable, or lacks the arrays above.
 EnclosureFile read_enclosure_vtu(const std::string& path);

@@ -28,20 +28,41 @@ namespace iaa {
 namespace {
 
 using Index = std::array<std::uint32_t, 3>;
-using Grad = std::array<Interval, 3>;
 
-/// The split level is the first level with at least this many candidate cells.
+/// A mean-value (centred) expansion of f over a cell: f(x) is in fc + g . (x - c) for every x of
+/// any box that holds c and lies in the cell, where g encloses the gradient over the cell and fc
+/// is f(c) evaluated on the degenerate box. Sound for continuous, piecewise differentiable f (the
+/// gradient enclosure contains the generalized gradients at kinks); made only where the cell has
+/// no partial domain and g is finite. Where the natural interval overestimates (x^4 - x^2 near
+/// its critical points) this bound is tight to second order in the cell size, which removes most
+/// of the "possible" shell around the surface.
+struct Expansion {
+  std::array<Interval, 3> g;
+  Interval fc;
+  double c[3];
+
+  Interval bound(const IBox& box) const {
+    Interval r = fc;
+    for (int a = 0; a < 3; ++a) r += g[a] * (box[a] - Interval(c[a]));
+    return r;
+  }
+};
+
+/// The split level is the first level with at least this many candidate cells, and at least
+/// depth - kMaxSubtreeDepth so that each subtree (and its corner cache) stays small.
 constexpr std::size_t kMinSubtrees = 512;
+constexpr int kMaxSubtreeDepth = 5;
 
-/// Open-addressing map from a grid point (integer coordinates on the key grid, one level finer
-/// than the deepest cells so that cell centres are grid points too) to the interval value of f
-/// there. One per subtree, so that what is evaluated does not depend on the thread count.
-class PointCache {
+/// Open-addressing map from a cell corner (integer coordinates on the grid of the deepest cells)
+/// to the proved sign of f there: +1 (certainly > 0), -1 (certainly < 0) or 0 (not proved). One
+/// per subtree, so that what is evaluated does not depend on the thread count; subtrees are kept
+/// small enough for their cache to stay in the processor's cache.
+class CornerCache {
  public:
-  PointCache() : slots_(1024) {}
+  CornerCache() : slots_(1024) {}
 
-  /// Returns the value slot of point (x, y, z); `*found` tells whether it was already there.
-  Interval* find_or_insert(std::uint32_t x, std::uint32_t y, std::uint32_t z, bool* found) {
+  /// Returns the sign slot of corner (x, y, z); `*found` tells whether it was already there.
+  std::int8_t* find_or_insert(std::uint32_t x, std::uint32_t y, std::uint32_t z, bool* found) {
     if (2 * (used_ + 1) > slots_.size()) grow();
     Slot* s = probe(x, y, z);
     *found = s->x != kEmpty;
@@ -51,14 +72,14 @@ class PointCache {
       s->z = z;
       ++used_;
     }
-    return &s->value;
+    return &s->sign;
   }
 
  private:
-  static constexpr std::uint32_t kEmpty = 0xffffffffu;  // keys are at most 2^30
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;  // keys are at most 2^29
   struct Slot {
     std::uint32_t x = kEmpty, y = 0, z = 0;
-    Interval value;
+    std::int8_t sign = 0;
   };
 
   Slot* probe(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
@@ -83,13 +104,22 @@ class PointCache {
   std::size_t used_ = 0;
 };
 
+/// 2^-d for every depth a grid can have.
+struct InversePowers {
+  double v[64];
+  InversePowers() {
+    for (int d = 0; d < 64; ++d) v[d] = std::ldexp(1.0, -d);
+  }
+};
+const InversePowers kInvPow2;
+
 /// grid_coordinate without the rounding-mode check, for the hot loop (a RoundingScope is open).
 inline double grid_coord_up(double lo, double hi, std::uint64_t i, int depth) {
   const std::uint64_t n = std::uint64_t{1} << depth;
   if (i == 0) return lo;
   if (i >= n) return hi;
   // i / 2^depth is exact; the product and the sum round upward, which keeps the map monotone.
-  return lo + std::ldexp(static_cast<double>(i), -depth) * (hi - lo);
+  return lo + (static_cast<double>(i) * kInvPow2.v[depth]) * (hi - lo);
 }
 
 /// State shared by all subtree tasks.
@@ -107,47 +137,60 @@ struct Shared {
 /// Depth-first enclosure of one subtree; owns its evaluators, point cache and output.
 class SubtreeWorker {
  public:
-  explicit SubtreeWorker(Shared& sh)
-      : sh_(sh), key_depth_(sh.max_depth + 1), ie_(*sh.tape), ge_(*sh.tape) {}
+  explicit SubtreeWorker(Shared& sh) : sh_(sh), ie_(*sh.tape), ge_(*sh.tape) {}
 
-  /// Encloses the subtree of cell (idx, d). `gp`, when given, encloses the gradient of f over the
-  /// parent cell, on which f is defined everywhere (no partial domain): it encloses the gradient
-  /// over this cell too, so the mean-value form costs only the value at the centre.
-  void visit(const Index& idx, int d, const Grad* gp) {
+  /// Encloses the subtree of cell (idx, d). `parent`, when given, is the mean-value expansion of
+  /// f over the parent cell, on which f is defined everywhere (no partial domain). Its centre is a
+  /// corner of this cell and its gradient encloses the gradient over this cell, so it bounds f here
+  /// with no evaluation at all, about as tightly as this cell's own expansion would.
+  void visit(const Index& idx, int d, const Expansion* parent) {
     if (sh_.over_limit.load(std::memory_order_relaxed)) return;
     const IBox box = cell_ibox(idx, d);
     Interval f = Interval::whole();
     bool partial = true;
-    if (gp) {
-      f = centered(idx, d, box, *gp);
+    if (parent) {
+      f = parent->bound(box);
       partial = false;  // partial domain is inclusion-monotone: none on the parent, none here
       if (!f.contains_zero()) return;
     }
-    Grad g;
-    bool g_valid = false;
-    // The natural interval value and the cell's own gradient, in one evaluation.
+    Expansion own_exp;
+    bool exp_valid = false;
+    // The natural interval value and the cell's own gradient in one evaluation, then the
+    // mean-value form around the cell's centre.
     const auto own = [&] {
-      if (sh_.centered_form) {
-        const IGrad r = ge_.eval(box);
-        partial = ge_.partial_domain();
-        f = intersect(f, r.v);
-        g = r.g;
-        g_valid = !partial && g[0].is_finite() && g[1].is_finite() && g[2].is_finite();
-        if (g_valid && f.contains_zero()) f = intersect(f, centered(idx, d, box, g));
-      } else {
+      ++evaluations_;
+      if (!sh_.centered_form) {
         f = ie_.eval(box);
         partial = ie_.partial_domain();
+        return;
       }
-      ++evaluations_;
+      const IGrad r = ge_.eval(box);
+      partial = ge_.partial_domain();
+      f = intersect(f, r.v);
+      if (partial || !f.contains_zero()) return;
+      for (int a = 0; a < 3; ++a) {
+        if (!r.g[a].is_finite()) return;
+        own_exp.g[a] = r.g[a];
+        own_exp.c[a] = grid_coord_up(sh_.bounds.lo[a], sh_.bounds.hi[a], 2 * idx[a] + 1ull, d + 1);
+      }
+      own_exp.fc = point_value(own_exp.c[0], own_exp.c[1], own_exp.c[2]);
+      if (d < sh_.max_depth) {  // the centre is a corner of the children: remember its sign
+        const int shift = sh_.max_depth - d - 1;
+        remember_sign((2 * idx[0] + 1) << shift, (2 * idx[1] + 1) << shift,
+                      (2 * idx[2] + 1) << shift, own_exp.fc);
+      }
+      if (!own_exp.fc.is_finite()) return;
+      exp_valid = true;
+      f = intersect(f, own_exp.bound(box));
     };
     if (d < sh_.depth) {
       own();
-      if (f.contains_zero()) split(idx, d, g_valid ? &g : nullptr);
+      if (f.contains_zero()) split(idx, d, exp_valid ? &own_exp : nullptr);
       return;
     }
     // A leaf. Crossing when its corners prove a sign change of a continuous f; with the parent's
-    // gradient at hand the leaf's own evaluation is only needed when it is not.
-    if (!gp) {
+    // expansion at hand the leaf's own evaluation is only needed when it is not.
+    if (!parent) {
       own();
       if (!f.contains_zero()) return;  // certified empty (or f undefined on the whole cell)
     }
@@ -155,12 +198,12 @@ class SubtreeWorker {
       emit(idx, d, CellClass::kCrossing, f);
       return;
     }
-    if (gp) {
+    if (parent) {
       own();  // a possible leaf: try the tighter bound of its own evaluation
       if (!f.contains_zero()) return;
     }
     if (d < sh_.max_depth) {
-      split(idx, d, g_valid ? &g : nullptr);  // refine a possible leaf
+      split(idx, d, exp_valid ? &own_exp : nullptr);  // refine a possible leaf
     } else {
       emit(idx, d, CellClass::kPossible, f);
     }
@@ -184,48 +227,41 @@ class SubtreeWorker {
     if (++pending_ == 256) flush();
   }
 
-  void split(const Index& idx, int d, const Grad* g) {
+  void split(const Index& idx, int d, const Expansion* g) {
     for (std::uint32_t c = 0; c < 8; ++c) {
       visit({2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)}, d + 1,
             g);
     }
   }
 
-  /// f on the key-grid point (x, y, z), evaluated on the degenerate box (so its sign, when
-  /// certain, is proved) at most once per subtree. Returns whole() where f may be undefined.
-  Interval point_value(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    bool found = false;
-    Interval* v = cache_.find_or_insert(x, y, z, &found);
-    if (!found) {
-      const Box3& b = sh_.bounds;
-      const IBox p(Interval(grid_coord_up(b.lo.x, b.hi.x, x, key_depth_)),
-                   Interval(grid_coord_up(b.lo.y, b.hi.y, y, key_depth_)),
-                   Interval(grid_coord_up(b.lo.z, b.hi.z, z, key_depth_)));
-      *v = ie_.eval(p);
-      ++corner_evaluations_;
-      if (ie_.partial_domain() || v->is_empty()) *v = Interval::whole();
-    }
-    return *v;
+  /// f on the degenerate box of a point: its sign, when certain, is proved. Returns whole() where
+  /// f may be undefined.
+  Interval point_value(double x, double y, double z) {
+    const Interval v = ie_.eval(IBox(Interval(x), Interval(y), Interval(z)));
+    ++corner_evaluations_;
+    return ie_.partial_domain() || v.is_empty() ? Interval::whole() : v;
   }
 
-  /// The mean-value (centred) form f(c) + G . (box - c), with c the cell's centre and G an
-  /// enclosure of the gradient over the cell. Sound for continuous, piecewise differentiable f on
-  /// the cell (the gradient enclosure contains the generalized gradients at kinks); callers only
-  /// use it where the cell has no partial domain and G is finite. Where the natural interval
-  /// overestimates (x^4 - x^2 near its critical points) this one is tight to second order in the
-  /// cell size, which removes most of the "possible" shell around the surface. The centre is a
-  /// grid point (a corner of the children), so its value is shared through the cache.
-  Interval centered(const Index& idx, int d, const IBox& box, const Grad& g) {
-    const int shift = key_depth_ - d - 1;
-    const std::uint32_t k[3] = {(2 * idx[0] + 1) << shift, (2 * idx[1] + 1) << shift,
-                                (2 * idx[2] + 1) << shift};
-    Interval r = point_value(k[0], k[1], k[2]);
-    if (!r.is_finite()) return Interval::whole();
-    for (int a = 0; a < 3; ++a) {
-      const double c = grid_coord_up(sh_.bounds.lo[a], sh_.bounds.hi[a], k[a], key_depth_);
-      r += g[a] * (box[a] - Interval(c));
+  /// Proved sign of f at corner (x, y, z) of the finest grid, evaluated once per subtree.
+  int corner_sign(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    bool found = false;
+    std::int8_t* sign = cache_.find_or_insert(x, y, z, &found);
+    if (!found) {
+      const Box3& b = sh_.bounds;
+      const int L = sh_.max_depth;
+      const Interval v =
+          point_value(grid_coord_up(b.lo.x, b.hi.x, x, L), grid_coord_up(b.lo.y, b.hi.y, y, L),
+                      grid_coord_up(b.lo.z, b.hi.z, z, L));
+      *sign = v.certainly_positive() ? 1 : (v.certainly_negative() ? -1 : 0);
     }
-    return r;
+    return *sign;
+  }
+
+  /// Records the proved sign of an already evaluated corner.
+  void remember_sign(std::uint32_t x, std::uint32_t y, std::uint32_t z, const Interval& v) {
+    bool found = false;
+    std::int8_t* sign = cache_.find_or_insert(x, y, z, &found);
+    if (!found) *sign = v.certainly_positive() ? 1 : (v.certainly_negative() ? -1 : 0);
   }
 
   IBox cell_ibox(const Index& idx, int d) const {
@@ -239,24 +275,22 @@ class SubtreeWorker {
 
   /// True when two corners of the cell have proved values of opposite strict signs.
   bool corners_have_both_signs(const Index& idx, int d) {
-    const int shift = key_depth_ - d;
+    const int shift = sh_.max_depth - d;
     bool pos = false, neg = false;
     for (std::uint32_t c = 0; c < 8; ++c) {
-      const Interval v =
-          point_value((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
-                      (idx[2] + ((c >> 2) & 1)) << shift);
-      pos |= v.certainly_positive();
-      neg |= v.certainly_negative();
+      const int sign = corner_sign((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
+                                   (idx[2] + ((c >> 2) & 1)) << shift);
+      pos |= sign > 0;
+      neg |= sign < 0;
       if (pos && neg) return true;
     }
     return false;
   }
 
   Shared& sh_;
-  int key_depth_;  ///< depth of the point cache's grid
   IntervalEval ie_;
   IntervalGradEval ge_;
-  PointCache cache_;
+  CornerCache cache_;
   std::vector<Cell> cells_;
   std::uint64_t evaluations_ = 0;
   std::uint64_t corner_evaluations_ = 0;
@@ -354,7 +388,8 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   {
     RoundingScope scope;
     IntervalEval ie(tape);
-    while (level < sh.depth && frontier.size() < kMinSubtrees && !frontier.empty()) {
+    while (level < sh.depth && !frontier.empty() &&
+           (frontier.size() < kMinSubtrees || level < sh.depth - kMaxSubtreeDepth)) {
       std::vector<Index> next;
       for (const Index& idx : frontier) {
         IBox b;
