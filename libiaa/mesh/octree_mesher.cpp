@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cfenv>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -359,6 +360,11 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
   st.finest_level = level;
   if (n_leaves == 0) return result;
 
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  auto t0 = Clock::now();
   Grid g;
   g.level = level;
   g.bounds = enc.bounds;
@@ -452,6 +458,8 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     keys.shrink_to_fit();
   });
 
+  st.seconds_signs = since(t0);
+  t0 = Clock::now();
   // Loops and triangles, per block of leaves (blocks in leaf order: deterministic output).
   const std::size_t n_blocks = (n_leaves + kChunk - 1) / kChunk;
   std::vector<Block> blocks(n_blocks);
@@ -468,6 +476,8 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     });
   }
 
+  st.seconds_extract = since(t0);
+  t0 = Clock::now();
   // Vertices: every crossing edge used, in sorted order, then the loop centres in block order.
   std::vector<U64> edges;
   std::vector<std::size_t> centre_base(n_blocks + 1, 0);
@@ -565,6 +575,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       });
     });
   }
+  st.seconds_vertices = since(t0);
   return result;
 }
 

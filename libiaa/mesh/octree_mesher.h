@@ -55,6 +55,8 @@ struct OctreeMeshStats {
   std::uint64_t open_chains = 0;        ///< segment chains that did not close (must be 0)
   std::uint64_t evaluations = 0;        ///< interval evaluations (enclosure + point signs)
   int finest_level = 0;                 ///< deepest leaf
+  /// Wall time of the phases: grid points and signs, loop extraction, vertex placement.
+  double seconds_signs = 0, seconds_extract = 0, seconds_vertices = 0;
 };
 
 /// The mesh and what could not be meshed.

@@ -1,0 +1,233 @@
+// Shared by `iaa mesh`, `iaa compare` and `iaa bench mesh`: loading the surface (a scene file or
+// --expr/--bounds), running one of the three meshers with comparable resolutions, and turning a
+// MeshReport into JSON. Header-only so that the subcommand files stay independent.
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "common/files.h"
+#include "core/error.h"
+#include "enclose/octree.h"
+#include "expr/tape.h"
+#include "iaa/command.h"
+#include "io/scene.h"
+#include "mesh/cgal_mesher.h"
+#include "mesh/mesh_report.h"
+#include "mesh/octree_mesher.h"
+#ifdef IAA_HAVE_VIZ
+#include "viz/vtk_mesher.h"
+#endif
+
+namespace iaa::cli::meshing {
+
+/// The surface to mesh: from a scene, or from an expression and bounds.
+struct Surface {
+  std::string name;
+  std::string expression;
+  std::shared_ptr<const Tape> tape;
+  Box3 bounds;
+  std::optional<Scene> scene;
+};
+
+inline Scene load_scene(const std::string& path) {
+  return parse_scene(tools::read_file(path), path);
+}
+
+inline Params parse_params(const std::vector<std::string>& items) {
+  Params p;
+  for (const std::string& item : items) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw Error("--param: expected NAME=VALUE, got '" + item + "'");
+    }
+    p[item.substr(0, eq)] = parse_double(item.substr(eq + 1), "--param " + item.substr(0, eq));
+  }
+  return p;
+}
+
+/// A scene path, or --expr with --bounds (and --param); exactly one of the two.
+inline Surface load_surface(const std::string& scene_path, const std::string& expr,
+                            const std::string& bounds, const std::vector<std::string>& params) {
+  Surface s;
+  if (!scene_path.empty()) {
+    if (!expr.empty()) throw Error("give either a SCENE or --expr, not both");
+    Scene scene = load_scene(scene_path);
+    s.name = scene.name;
+    s.expression = scene.expression;
+    s.tape = scene.tape;
+    s.bounds = scene.bounds;
+    s.scene = std::move(scene);
+    return s;
+  }
+  if (expr.empty())
+    throw Error("no surface: give a SCENE file or --expr EXPR --bounds X0:X1,Y0:Y1,Z0:Z1");
+  if (bounds.empty()) throw Error("--bounds X0:X1,Y0:Y1,Z0:Z1 is required with --expr");
+  s.name = "expr";
+  s.expression = expr;
+  s.tape = std::make_shared<const Tape>(Tape::parse(expr, parse_params(params)));
+  s.bounds = parse_box(bounds, "--bounds");
+  for (int a = 0; a < 3; ++a) {
+    if (!(s.bounds.lo[a] < s.bounds.hi[a])) throw Error("--bounds: every range must have LO < HI");
+  }
+  return s;
+}
+
+enum class Method { kOctree, kCgal, kVtk };
+
+inline const char* method_label(Method m) {
+  return m == Method::kOctree ? "octree" : (m == Method::kCgal ? "cgal" : "vtk");
+}
+
+/// Parses a method name; a method whose library was left out of this build is a clear error.
+inline Method parse_mesh_method(const std::string& text) {
+  if (text == "octree") return Method::kOctree;
+  if (text == "cgal") {
+#ifndef IAA_HAVE_CGAL
+    throw Error("--method cgal: this iaa was built without CGAL (IAA_WITH_CGAL=OFF)");
+#endif
+    return Method::kCgal;
+  }
+  if (text == "vtk") {
+#ifndef IAA_HAVE_VIZ
+    throw Error("--method vtk: this iaa was built without VTK (IAA_WITH_VTK=OFF)");
+#endif
+    return Method::kVtk;
+  }
+  throw Error("--method: unknown mesher '" + text + "'; use octree, cgal or vtk");
+}
+
+/// Resolution settings shared by the three methods. `resolution` N means: octree leaves of a
+/// 2^ceil(log2 N) grid, VTK on an N^3 grid, CGAL facets of size (longest bounds edge) / N.
+struct MeshParams {
+  int resolution = 256;
+  int depth = 0;   ///< octree depth; 0: from resolution
+  int refine = 6;  ///< octree: extra levels for possible leaves
+  std::uint64_t max_boxes = EncloseSettings{}.max_boxes;
+  double facet_size = 0;      ///< cgal; 0: from resolution
+  double facet_distance = 0;  ///< cgal; 0: facet_size / 4
+  double facet_angle = 25;    ///< cgal
+  int grid = 0;               ///< vtk; 0: resolution
+
+  int octree_depth() const {
+    if (depth > 0) return depth;
+    int d = 1;
+    while ((1 << d) < resolution && d < 20) ++d;
+    return d;
+  }
+  EncloseSettings enclose_settings(const Box3& bounds) const {
+    EncloseSettings e;
+    e.bounds = bounds;
+    e.depth = octree_depth();
+    e.refine_possible = refine;
+    e.max_boxes = max_boxes;
+    return e;
+  }
+  void validate() const {
+    if (resolution < 2 || resolution > 4096) {
+      throw SettingError("--resolution must be in 2..4096, got " + std::to_string(resolution));
+    }
+  }
+};
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// One mesher run: the mesh, its wall time, and what the method reports about itself.
+struct MeshRun {
+  TriangleSoup soup;
+  double seconds = 0;
+  nlohmann::json details;
+  std::optional<Enclosure> enclosure;  ///< the octree's own enclosure
+};
+
+inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const Exec& exec) {
+  p.validate();
+  MeshRun run;
+  const auto t0 = std::chrono::steady_clock::now();
+  const double edge = std::fmax(s.bounds.size().x, std::fmax(s.bounds.size().y, s.bounds.size().z));
+  if (m == Method::kOctree) {
+    OctreeMeshSettings os;
+    os.enclose = p.enclose_settings(s.bounds);
+    os.validate();
+    Enclosure enc = enclose(*s.tape, os.enclose, exec);
+    const double enclose_seconds = seconds_since(t0);
+    OctreeMesh om = extract_mesh(*s.tape, enc, os, exec);
+    run.seconds = seconds_since(t0);
+    run.soup = std::move(om.soup);
+    const OctreeMeshStats& st = om.stats;
+    run.details = {{"depth", os.enclose.depth},
+                   {"refine_possible", os.enclose.refine_possible},
+                   {"leaves", st.leaves},
+                   {"crossing_leaves", st.crossing_leaves},
+                   {"possible_leaves", st.possible_leaves},
+                   {"meshed_leaves", st.meshed_leaves},
+                   {"unmeshed_possible_leaves", st.unmeshed_possible},
+                   {"unmeshed_crossing_leaves", st.unmeshed_crossing},
+                   {"sample_points", st.sample_points},
+                   {"uncertain_points", st.uncertain_points},
+                   {"open_chains", st.open_chains},
+                   {"finest_level", st.finest_level},
+                   {"seconds_enclose", enclose_seconds},
+                   {"seconds_signs", st.seconds_signs},
+                   {"seconds_extract", st.seconds_extract},
+                   {"seconds_vertices", st.seconds_vertices}};
+    run.enclosure = std::move(enc);
+  } else if (m == Method::kCgal) {
+#ifdef IAA_HAVE_CGAL
+    CgalMeshSettings cs;
+    cs.bounds = s.bounds;
+    cs.facet_size = p.facet_size > 0 ? p.facet_size : edge / p.resolution;
+    cs.facet_distance = p.facet_distance > 0 ? p.facet_distance : cs.facet_size / 4;
+    cs.facet_angle = p.facet_angle;
+    CgalMeshStats st;
+    run.soup = mesh_cgal(*s.tape, cs, exec, &st);
+    run.seconds = seconds_since(t0);
+    run.details = {{"facet_size", cs.facet_size},
+                   {"facet_distance", cs.facet_distance},
+                   {"facet_angle", cs.facet_angle},
+                   {"facets", st.facets},
+                   {"bound_facets_removed", st.bound_facets}};
+#endif
+  } else {
+#ifdef IAA_HAVE_VIZ
+    viz::VtkMeshSettings vs;
+    vs.bounds = s.bounds;
+    vs.grid = p.grid > 0 ? p.grid : p.resolution;
+    run.soup = viz::mesh_vtk(*s.tape, vs, exec);
+    run.seconds = seconds_since(t0);
+    run.details = {{"grid", vs.grid}};
+#endif
+  }
+  return run;
+}
+
+inline nlohmann::json report_json(const MeshReport& r) {
+  nlohmann::json j = {{"vertices", r.vertices},
+                      {"triangles", r.triangles},
+                      {"edges", r.edges},
+                      {"boundary_edges", r.boundary_edges},
+                      {"nonmanifold_edges", r.nonmanifold_edges},
+                      {"inconsistently_oriented_edges", r.inconsistent_edges},
+                      {"degenerate_triangles", r.degenerate_triangles},
+                      {"unused_vertices", r.unused_vertices},
+                      {"components", r.components},
+                      {"euler_characteristic", r.euler},
+                      {"area", r.area},
+                      {"signed_volume", r.volume},
+                      {"max_abs_f_at_vertices", r.max_abs_f},
+                      {"undefined_vertices", r.undefined_vertices}};
+  j["vertices_outside_enclosure"] =
+      r.outside_enclosure < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.outside_enclosure);
+  return j;
+}
+
+}  // namespace iaa::cli::meshing
