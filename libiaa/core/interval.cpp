@@ -9,7 +9,7 @@ namespace iaa {
 
 namespace {
 
-using Rounding = Interval::Boost::traits_type::rounding;
+using detail::Rounding;
 
 #ifdef IAA_CHECK_ROUNDING
 #define IAA_ASSERT_UPWARD() assert(rounding_is_upward() && "Interval op outside a RoundingScope")
@@ -79,34 +79,6 @@ Interval intersect(const Interval& a, const Interval& b) {
   return lo <= hi ? Interval::raw(lo, hi) : Interval::empty();
 }
 
-Interval operator+(const Interval& a, const Interval& b) {
-  IAA_ASSERT_UPWARD();
-  if (a.is_empty() || b.is_empty()) return Interval::empty();
-  Rounding rnd;
-  return Interval(rnd.add_down(a.lo(), b.lo()), rnd.add_up(a.hi(), b.hi()));
-}
-
-Interval operator-(const Interval& a, const Interval& b) {
-  IAA_ASSERT_UPWARD();
-  if (a.is_empty() || b.is_empty()) return Interval::empty();
-  Rounding rnd;
-  return Interval(rnd.sub_down(a.lo(), b.hi()), rnd.sub_up(a.hi(), b.lo()));
-}
-
-Interval operator-(const Interval& a) {
-  if (a.is_empty()) return a;
-  return Interval::raw(-a.hi(), -a.lo());
-}
-
-Interval operator*(const Interval& a, const Interval& b) {
-  IAA_ASSERT_UPWARD();
-  if (a.is_empty() || b.is_empty()) return Interval::empty();
-  // A factor that is exactly 0 makes the product 0 even when the other factor is unbounded
-  // (0 times any real is 0; IEEE's 0 * inf = NaN would otherwise widen the result to everything).
-  if ((a.lo() == 0.0 && a.hi() == 0.0) || (b.lo() == 0.0 && b.hi() == 0.0)) return Interval(0.0);
-  return Interval(a.boost() * b.boost());
-}
-
 Interval divide(const Interval& a, const Interval& b, Domain* dom) {
   IAA_ASSERT_UPWARD();
   if (a.is_empty() || b.is_empty()) return Interval::empty();
@@ -132,12 +104,6 @@ Interval divide(const Interval& a, const Interval& b, Domain* dom) {
 Interval operator/(const Interval& a, const Interval& b) {
   Domain dom = Domain::kFull;
   return divide(a, b, &dom);
-}
-
-Interval square(const Interval& x) {
-  IAA_ASSERT_UPWARD();
-  if (x.is_empty()) return x;
-  return Interval(boost::numeric::square(x.boost()));
 }
 
 Interval pow_int(const Interval& x, int n) {

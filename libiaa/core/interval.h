@@ -135,11 +135,55 @@ Interval hull(const Interval& a, const Interval& b);
 /// Intersection (may be empty).
 Interval intersect(const Interval& a, const Interval& b);
 
-// Arithmetic. All need a RoundingScope.
-Interval operator+(const Interval& a, const Interval& b);
-Interval operator-(const Interval& a, const Interval& b);
-Interval operator-(const Interval& a);
-Interval operator*(const Interval& a, const Interval& b);
+// Arithmetic. All need a RoundingScope. The hot ones are inline so that the tape loop can
+// inline them (they are most of its time).
+
+namespace detail {
+using Rounding = Interval::Boost::traits_type::rounding;
+/// max that ignores a NaN argument (IEEE maxNum); compiles to maxsd plus a compare.
+inline double max_num(double x, double y) {
+  return (x >= y || y != y) ? x : y;
+}
+inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
+}  // namespace detail
+
+inline Interval operator+(const Interval& a, const Interval& b) {
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  // Rounding upward: x + y rounds up, -((-x) - y) rounds down (Boost's "opposite" trick, without
+  // its volatile round trip, which only x87 code needs). -frounding-math keeps the compiler from
+  // folding the two into one; tests/core/rounding_test.cpp checks it.
+  return Interval(-((-a.lo()) - b.lo()), a.hi() + b.hi());
+}
+
+inline Interval operator-(const Interval& a, const Interval& b) {
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  return Interval(-(b.hi() - a.lo()), a.hi() - b.lo());
+}
+
+inline Interval operator-(const Interval& a) {
+  return a.is_empty() ? a : Interval::raw(-a.hi(), -a.lo());
+}
+
+inline Interval operator*(const Interval& a, const Interval& b) {
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  // A factor that is exactly 0 makes the product 0 even when the other factor is unbounded
+  // (0 times any real is 0; IEEE's 0 * inf = NaN would otherwise widen the result to everything).
+  if ((a.lo() == 0.0 && a.hi() == 0.0) || (b.lo() == 0.0 && b.hi() == 0.0)) return Interval(0.0);
+  // Branch-free: the bounds are the extreme endpoint products. With the FPU rounding upward,
+  // p rounds up and -((-x) * y) rounds down. An endpoint product 0 * inf is NaN; it stands for
+  // 0 times reals and is dropped (max_num ignores it), the other products bound the result.
+  const double al = a.lo(), ah = a.hi(), bl = b.lo(), bh = b.hi();
+  // Scaling by a finite point (a constant of the expression) needs two products.
+  if (bl == bh && bl > 0.0 && bl < detail::kInfinity) return Interval(-((-al) * bl), ah * bl);
+  if (bl == bh && bl < 0.0 && bl > -detail::kInfinity) return Interval(-((-ah) * bl), al * bl);
+  if (al == ah && al > 0.0 && al < detail::kInfinity) return Interval(-((-bl) * al), bh * al);
+  if (al == ah && al < 0.0 && al > -detail::kInfinity) return Interval(-((-bh) * al), bl * al);
+  const double hi =
+      detail::max_num(detail::max_num(al * bl, al * bh), detail::max_num(ah * bl, ah * bh));
+  const double lo = -detail::max_num(detail::max_num((-al) * bl, (-al) * bh),
+                                     detail::max_num((-ah) * bl, (-ah) * bh));
+  return Interval(lo, hi);
+}
 /// Division; see the header comment for divisors containing 0.
 Interval operator/(const Interval& a, const Interval& b);
 inline Interval& operator+=(Interval& a, const Interval& b) {
@@ -159,7 +203,10 @@ enum class Domain : unsigned char {
 };
 
 /// x*x, tight: [-2,1] -> [0,4].
-Interval square(const Interval& x);
+inline Interval square(const Interval& x) {
+  if (x.is_empty()) return x;
+  return Interval(boost::numeric::square(x.boost()));
+}
 /// x^n for an integer n >= 0, tight. pow(x, 0) = [1,1] (also at x = 0, as for polynomials).
 Interval pow_int(const Interval& x, int n);
 /// sqrt on x >= 0; clamps and reports kPartial when x reaches below 0.

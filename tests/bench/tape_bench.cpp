@@ -1,0 +1,94 @@
+// Google Benchmark micro-benchmarks of the interval core and the tape evaluators (the same
+// figures as `iaa bench tape`, in Google Benchmark's format for comparisons across commits:
+//   build/bin/iaa_gbench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <vector>
+
+#include "expr/eval_interval.h"
+#include "expr/eval_interval_grad.h"
+#include "expr/eval_point.h"
+
+namespace iaa {
+namespace {
+
+const char* kChubs = "x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5";
+
+std::vector<Vec3> points(int n) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> u(-1.1, 1.1);
+  std::vector<Vec3> p(static_cast<std::size_t>(n));
+  for (Vec3& v : p) v = {u(rng), u(rng), u(rng)};
+  return p;
+}
+
+void BM_PointEval(benchmark::State& state) {
+  const Tape t = Tape::parse(kChubs);
+  PointEval e(t);
+  const auto pts = points(1024);
+  for (auto _ : state) {
+    for (const Vec3& p : pts) benchmark::DoNotOptimize(e.eval(p));
+  }
+  state.counters["ns/op"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * 1024 * t.op_count(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_PointEval);
+
+void BM_IntervalEval(benchmark::State& state) {
+  const Tape t = Tape::parse(kChubs);
+  IntervalEval e(t);
+  const auto pts = points(1024);
+  RoundingScope scope;
+  for (auto _ : state) {
+    for (const Vec3& p : pts) {
+      benchmark::DoNotOptimize(e.eval(
+          IBox(Interval(p.x, p.x + 0.01), Interval(p.y, p.y + 0.01), Interval(p.z, p.z + 0.01))));
+    }
+  }
+  state.counters["ns/op"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * 1024 * t.op_count(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_IntervalEval);
+
+void BM_IntervalGradEval(benchmark::State& state) {
+  const Tape t = Tape::parse(kChubs);
+  IntervalGradEval e(t);
+  const auto pts = points(1024);
+  RoundingScope scope;
+  for (auto _ : state) {
+    for (const Vec3& p : pts) {
+      benchmark::DoNotOptimize(e.eval(
+          IBox(Interval(p.x, p.x + 0.01), Interval(p.y, p.y + 0.01), Interval(p.z, p.z + 0.01))));
+    }
+  }
+}
+BENCHMARK(BM_IntervalGradEval);
+
+// The cost of the per-operation rounding-mode switch that RoundingScope avoids.
+void BM_IntervalMulWithModeSwitch(benchmark::State& state) {
+  using Protected = boost::numeric::interval<double>;
+  Protected a(1.1, 1.2), b(-0.3, 0.7);
+  for (auto _ : state) {
+    a = a * b + Protected(0.5);
+    benchmark::DoNotOptimize(a);
+  }
+}
+BENCHMARK(BM_IntervalMulWithModeSwitch);
+
+void BM_IntervalMulInScope(benchmark::State& state) {
+  RoundingScope scope;
+  Interval a(1.1, 1.2), b(-0.3, 0.7);
+  for (auto _ : state) {
+    a = a * b + Interval(0.5);
+    benchmark::DoNotOptimize(a);
+  }
+}
+BENCHMARK(BM_IntervalMulInScope);
+
+}  // namespace
+}  // namespace iaa
+
+BENCHMARK_MAIN();
