@@ -15,6 +15,7 @@
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/command.h"
+#include "io/scene.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/enclosure_vtk.h"
 #endif
@@ -23,6 +24,8 @@ namespace iaa::cli {
 namespace {
 
 struct EncloseOptions {
+  std::string scene;
+  std::vector<std::string> sets;
   std::string expr;
   std::string bounds;
   std::vector<std::string> params;
@@ -120,22 +123,44 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 void run(const EncloseOptions& o) {
-  if (o.expr.empty()) throw Error("no surface: give --expr EXPR --bounds X0:X1,Y0:Y1,Z0:Z1");
-  if (o.bounds.empty()) throw Error("--bounds X0:X1,Y0:Y1,Z0:Z1 is required with --expr");
-  if (o.threads < 0)
+  if (o.scene.empty() && o.expr.empty()) {
+    throw Error("no surface: give a SCENE file or --expr EXPR --bounds X0:X1,Y0:Y1,Z0:Z1");
+  }
+  if (!o.scene.empty() && !o.expr.empty()) {
+    throw Error(
+        "give either a SCENE file or --expr, not both (use --set surface.expression=... to change "
+        "a scene's)");
+  }
+  if (o.scene.empty() && !o.sets.empty()) throw Error("--set needs a SCENE file");
+  if (o.scene.empty() && o.bounds.empty()) {
+    throw Error("--bounds X0:X1,Y0:Y1,Z0:Z1 is required with --expr");
+  }
+  if (o.threads < 0) {
     throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
+  }
 #ifndef IAA_HAVE_VIZ
-  if (!o.output.empty())
+  if (!o.output.empty()) {
     throw Error("-o: this iaa was built without VTK (IAA_WITH_VTK=OFF); no .vtu output");
+  }
 #endif
   if (!o.output.empty() && tools::extension_of(o.output) != "vtu") {
     throw Error("-o: the output must be a .vtu file, got '" + o.output + "'");
   }
-  const std::string expression = o.expr;
-  const Tape tape = Tape::parse(expression, parse_params(o.params));
-
+  std::string expression;
+  std::shared_ptr<const Tape> tape;
   EncloseSettings s;
-  s.bounds = parse_bounds(o.bounds);
+  if (!o.scene.empty()) {
+    std::vector<SceneOverride> overrides;
+    for (const std::string& set : o.sets) overrides.push_back(parse_override(set));
+    const Scene scene = parse_scene(tools::read_file(o.scene), o.scene, overrides);
+    expression = scene.expression;
+    tape = scene.tape;
+    s.bounds = o.bounds.empty() ? scene.bounds : parse_bounds(o.bounds);
+  } else {
+    expression = o.expr;
+    tape = std::make_shared<const Tape>(Tape::parse(expression, parse_params(o.params)));
+    s.bounds = parse_bounds(o.bounds);
+  }
   s.depth = o.cell_size != 0 ? depth_for_cell_size(s.bounds, o.cell_size) : o.depth;
   s.refine_possible = o.refine_possible;
   s.max_boxes = o.max_boxes;
@@ -159,7 +184,7 @@ void run(const EncloseOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   Enclosure enc;
   try {
-    enc = enclose(tape, s, exec);
+    enc = enclose(*tape, s, exec);
   } catch (const SettingError& e) {
     std::string m = e.what();
     if (m.rfind("max_boxes", 0) == 0) {
@@ -248,8 +273,13 @@ void run(const EncloseOptions& o) {
 
 void setup(CLI::App& app) {
   auto o = std::make_shared<EncloseOptions>();
-  app.add_option("--expr", o->expr, "the surface f(x,y,z) = 0, e.g. 'x^2 + y^2 + z^2 - 1'");
-  app.add_option("--bounds", o->bounds, "the box X0:X1,Y0:Y1,Z0:Z1 to enclose the surface in");
+  app.add_option("scene", o->scene, "a scene file (.toml): its [surface] expression and bounds");
+  app.add_option("--set", o->sets,
+                 "override a key of the scene, e.g. surface.params.r=0.4 (repeatable)");
+  app.add_option("--expr", o->expr,
+                 "the surface f(x,y,z) = 0 (instead of a scene), e.g. 'x^2 + y^2 + z^2 - 1'");
+  app.add_option("--bounds", o->bounds,
+                 "the box X0:X1,Y0:Y1,Z0:Z1 to enclose the surface in (default: the scene's)");
   app.add_option("-p,--param", o->params,
                  "a named parameter NAME=VALUE of the expression (repeatable)");
   app.add_option("-d,--depth", o->depth, "leaf depth: cells are the bounds / 2^D per axis (1..21)")
@@ -276,12 +306,8 @@ void setup(CLI::App& app) {
       "arithmetic). A 'crossing' box has corners of both strict signs (proved), so the surface\n"
       "certainly passes through it; a 'possible' box could not be decided at that size.\n\n"
       "Examples:\n"
-      "  iaa enclose --expr '0.5*x^5 + 0.5*x^4 - y^2 - z^2' --bounds -1.05:1,-1.05:1.05,-1.05:1.05 "
-      "\\\n"
-      "      --depth 7 --refine-possible 3 -o teardrop.vtu\n"
-      "  iaa enclose --expr 'x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5' --bounds "
-      "-1.1:1.1,-1.1:1.1,-1.1:1.1 \\\n"
-      "      --cell-size 0.01 -o chubs.vtu --report chubs.json\n"
+      "  iaa enclose data/scenes/teardrop.toml --depth 7 --refine-possible 3 -o teardrop.vtu\n"
+      "  iaa enclose data/scenes/chubs.toml --cell-size 0.01 --report chubs.json -o chubs.vtu\n"
       "  iaa enclose --expr 'x^2 + y^2 + z^2 - r^2' -p r=0.5 --bounds -1:1,-1:1,-1:1 -d 5");
   app.callback([o] { run(*o); });
 }
