@@ -17,6 +17,7 @@
 
 #include "core/error.h"
 #include "expr/eval_point.h"
+#include "expr/eval_point_grad.h"
 
 namespace iaa {
 
@@ -79,6 +80,41 @@ struct BoundedFunction {
   }
 };
 
+// Facet size as a field: the requested size on f = 0, but as large as the bounds on their own
+// faces (where a surface Delaunay ball's centre lies on a bounds plane and f is not 0), so that
+// Mesh_3 does not spend its time on the cut of the domain, which is thrown away afterwards.
+struct SizeField {
+  Box3 box;
+  double size, coarse, tol;
+  const Tape* tape;
+  template <class Index>
+  FT operator()(const Point& p, int, const Index&) const {
+    for (int a = 0; a < 3; ++a) {
+      if (std::fabs(p[a] - box.lo[a]) < tol || std::fabs(p[a] - box.hi[a]) < tol) {
+        return on_surface(p) ? size : coarse;
+      }
+    }
+    return size;
+  }
+  bool on_surface(const Point& p) const;
+};
+
+// True when f vanishes at p up to the position error of Mesh_3's surface search.
+bool near_zero(const Tape& tape, const Vec3& p, double tol) {
+  thread_local const Tape* cached = nullptr;
+  thread_local std::unique_ptr<PointGradEval> pg;
+  if (cached != &tape || !pg) {
+    pg = std::make_unique<PointGradEval>(tape);
+    cached = &tape;
+  }
+  const PGrad g = pg->eval(p);
+  return std::isfinite(g.v) && std::fabs(g.v) <= length(g.g) * tol;
+}
+
+bool SizeField::on_surface(const Point& p) const {
+  return near_zero(*tape, {p.x(), p.y(), p.z()}, 100 * tol);
+}
+
 }  // namespace
 
 TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& exec,
@@ -95,7 +131,9 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
       params::relative_error_bound = s.relative_error);
   // A surface mesh only: the volume criterion is made large so Mesh_3 does not refine cells.
   const double diag = length(b.size());
-  Criteria criteria(params::facet_angle = s.facet_angle, params::facet_size = s.facet_size,
+  const double pos_tol = std::max(1e-9, 10 * s.relative_error) * diag;
+  const SizeField size_field{b, s.facet_size, 0.25 * diag, pos_tol, &tape};
+  Criteria criteria(params::facet_angle = s.facet_angle, params::facet_size = size_field,
                     params::facet_distance = s.facet_distance, params::cell_radius_edge_ratio = 3,
                     params::cell_size = diag);
   C3t3 c3t3;
@@ -114,7 +152,6 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
     }
     return it->second;
   };
-  const Vec3 tol = 1e-5 * b.size() + Vec3{1e-300, 1e-300, 1e-300};
   std::uint64_t facets = 0, on_bounds = 0;
   for (auto f = c3t3.facets_in_complex_begin(); f != c3t3.facets_in_complex_end(); ++f) {
     ++facets;
@@ -133,15 +170,9 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
       const auto& q = v[std::size_t(k)]->point();
       p[std::size_t(k)] = {CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z())};
     }
+    // A facet of the domain's cut by the bounds has a vertex where f is not 0.
     bool bound_facet = false;
-    for (int a = 0; a < 3 && !bound_facet; ++a) {
-      for (const double plane : {b.lo[a], b.hi[a]}) {
-        if (std::fabs(p[0][a] - plane) < tol[a] && std::fabs(p[1][a] - plane) < tol[a] &&
-            std::fabs(p[2][a] - plane) < tol[a]) {
-          bound_facet = true;
-        }
-      }
-    }
+    for (int k = 0; k < 3 && !bound_facet; ++k) bound_facet = !near_zero(tape, p[std::size_t(k)], pos_tol);
     if (bound_facet) {
       ++on_bounds;
       continue;
