@@ -5,25 +5,11 @@
 #include <cmath>
 
 #include "render/camera.h"
+#include "render/piece_stack.h"
 
 namespace iaa {
 
 namespace {
-
-struct Stack {
-  std::array<std::pair<double, double>, 2200> items;
-  int n = 0;
-  void push(double a, double b) {
-    if (n < static_cast<int>(items.size())) items[static_cast<std::size_t>(n++)] = {a, b};
-  }
-  bool pop(double* a, double* b) {
-    if (n == 0) return false;
-    const auto& p = items[static_cast<std::size_t>(--n)];
-    *a = p.first;
-    *b = p.second;
-    return true;
-  }
-};
 
 /// Sign of F on the (unclipped) slice of the beam at depth t: +1 / -1 when proved with intervals
 /// on a slice inside the bounds without partial domain, else 0.
@@ -51,7 +37,7 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   const double abs_floor = 1e-12 * std::max(1.0, range.hi());
   const double tol_factor = su.settings.depth_tolerance;
 
-  Stack st;
+  PieceStack st;
   st.push(range.lo(), range.hi());
   double a = 0, b = 0;
   bool found = false;
@@ -68,7 +54,8 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial});
     if (!kept) continue;
     const double m = 0.5 * (a + b);
-    if (b - a <= std::max(abs_floor, tol_factor * lateral * b) || m <= a || m >= b) {
+    if (b - a <= std::max(abs_floor, tol_factor * lateral * b) || m <= a || m >= b ||
+        !st.has_room(2)) {
       found = true;
       kept_partial = partial;
       out.hit_box = box;

@@ -4,26 +4,11 @@
 #include <cmath>
 
 #include "render/camera.h"
+#include "render/piece_stack.h"
 
 namespace iaa {
 
 namespace {
-
-/// Bisection stack of depth pieces; deep enough for any double range (each level halves).
-struct PieceStack {
-  std::array<std::pair<double, double>, 2200> items;
-  int n = 0;
-  void push(double a, double b) {
-    if (n < static_cast<int>(items.size())) items[static_cast<std::size_t>(n++)] = {a, b};
-  }
-  bool pop(double* a, double* b) {
-    if (n == 0) return false;
-    const auto& p = items[static_cast<std::size_t>(--n)];
-    *a = p.first;
-    *b = p.second;
-    return true;
-  }
-};
 
 Interval dot(const std::array<Interval, 3>& g, const IBox& d) {
   return g[0] * d.x + g[1] * d.y + g[2] * d.z;
@@ -39,13 +24,14 @@ int sign_at(RenderContext& ctx, const Vec3& o, const IBox& dir, double t) {
 
 }  // namespace
 
-RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol) {
+RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol,
+                  double newton_from) {
   RayHit out;
   if (range.is_empty()) return out;
   PieceStack st;
   st.push(range.lo(), range.hi());
   // Newton is tried once pieces are this narrow; wider pieces rarely have F' away from 0.
-  const double newton_width = std::max(tol, range.width() / 32.0);
+  const double newton_width = std::max(tol, newton_from);
   double a = 0, b = 0;
   while (st.pop(&a, &b)) {
     const IBox box = clip_box(segment_box(o, dir, Interval(a, b)), ctx.bounds());
@@ -54,7 +40,7 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
     const Interval f = ctx.eval(box, &partial);
     if (f.is_empty() || !f.contains_zero()) continue;
     const double m = 0.5 * (a + b);
-    if (b - a <= tol || m <= a || m >= b) {
+    if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) {
       out.hit = true;
       out.t = Interval(a, b);
       // Certify by a strict sign change at the ends of a piece where f is continuous.
@@ -124,7 +110,7 @@ bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interva
     const Interval f = ctx.eval(box);
     if (f.is_empty() || !f.contains_zero()) continue;
     const double m = 0.5 * (a + b);
-    if (b - a <= tol || m <= a || m >= b) return true;
+    if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) return true;
     st.push(m, b);
     st.push(a, m);
   }

@@ -207,7 +207,8 @@ class Renderer {
     const double uc = 0.5 * (rect.u0 + rect.u1), vc = 0.5 * (rect.v0 + rect.v1);
     const Vec3 d = su_.frame.dir(uc, vc);
     const Interval sr(s.t_near, s.result == BeamResult::kFull ? s.t_far : range.hi());
-    const RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, su_.ray_tol);
+    const RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, su_.ray_tol,
+                                su_.frame.scale * sr.hi() * 4);
     Vec3 p, g;
     if (h.hit) {
       p = su_.frame.eye + h.t.mid() * d;
@@ -242,7 +243,8 @@ class Renderer {
   // ---- point rays --------------------------------------------------------------------------
   RaySample ray(double u, double v, Interval range, PixelTrace* tr) {
     RaySample out;
-    const RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(u, v), range, su_.ray_tol);
+    const RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(u, v), range, su_.ray_tol,
+                                su_.frame.scale * range.hi() * 4);
     out.hit = h.hit;
     out.certified = h.certified;
     if (h.hit) {
