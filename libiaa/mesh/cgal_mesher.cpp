@@ -172,7 +172,8 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
     }
     // A facet of the domain's cut by the bounds has a vertex where f is not 0.
     bool bound_facet = false;
-    for (int k = 0; k < 3 && !bound_facet; ++k) bound_facet = !near_zero(tape, p[std::size_t(k)], pos_tol);
+    for (int k = 0; k < 3 && !bound_facet; ++k)
+      bound_facet = !near_zero(tape, p[std::size_t(k)], pos_tol);
     if (bound_facet) {
       ++on_bounds;
       continue;

@@ -75,7 +75,10 @@ std::string encode_mesh(const TriangleSoup& soup, MeshFormat format, bool binary
     // add_face refuses a face that would make an edge or vertex complex (non-manifold).
     TriMesh::FaceHandle fh = mesh.add_face(f);
     if (!fh.is_valid()) {
-      for (auto& v : f) v = mesh.add_vertex(mesh.point(v));
+      for (auto& v : f) {
+        const TriMesh::Point p = mesh.point(v);  // a copy: add_vertex may move the points
+        v = mesh.add_vertex(p);
+      }
       mesh.add_face(f);
       copies += 3;
     }
@@ -91,6 +94,12 @@ std::string encode_mesh(const TriangleSoup& soup, MeshFormat format, bool binary
   }
   if (!ok) throw Error(std::string("OpenMesh could not write the mesh as ") + (ext_of(format) + 1));
   return os.str();
+}
+
+void round_to_file_precision(TriangleSoup& mesh) {
+  for (Vec3& p : mesh.vertices) {
+    for (int a = 0; a < 3; ++a) p[a] = static_cast<float>(p[a]);
+  }
 }
 
 TriangleSoup decode_mesh(const std::string& bytes, MeshFormat format, const std::string& what) {

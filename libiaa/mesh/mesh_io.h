@@ -17,12 +17,18 @@ enum class MeshFormat { kPly, kObj, kOff };
 /// iaa::Error naming the supported formats otherwise.
 MeshFormat mesh_format_from_extension(std::string_view ext);
 
-/// Encodes a mesh (ASCII, coordinates with 17 significant digits so doubles round-trip; PLY may be
-/// binary). Triangles that would make an edge non-manifold are kept by giving them their own copies
-/// of the vertices (as OpenMesh's own importer does); `duplicated` receives how many vertices were
-/// copied. Throws iaa::Error if OpenMesh fails.
+/// Encodes a mesh (ASCII with 17 significant digits, or binary PLY). Note (measured): OpenMesh
+/// 9.0's writers and readers carry positions as float whatever the mesh's traits, so a file holds
+/// every coordinate rounded to float; round_to_file_precision() gives the mesh a file will hold.
+/// Triangles that would make an edge non-manifold are kept by giving them their own copies of the
+/// vertices (as OpenMesh's own importer does); `duplicated` receives how many vertices were copied.
+/// Throws iaa::Error if OpenMesh fails.
 std::string encode_mesh(const TriangleSoup& mesh, MeshFormat format, bool binary = false,
                         std::size_t* duplicated = nullptr);
+
+/// Rounds every coordinate to what a mesh file holds (float), so that a report computed on the
+/// mesh describes the file exactly.
+void round_to_file_precision(TriangleSoup& mesh);
 
 /// Decodes a mesh (polygons are split into triangles). `what` names the source in errors.
 /// Throws iaa::Error when OpenMesh cannot read it.

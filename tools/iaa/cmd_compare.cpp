@@ -30,10 +30,12 @@ struct CompareOptions {
 };
 
 void run(const CompareOptions& o) {
-  if (o.threads < 0) throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
+  if (o.threads < 0)
+    throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
 #if !defined(IAA_HAVE_CGAL) || !defined(IAA_HAVE_OPENMESH)
-  throw Error("this iaa was built without CGAL or OpenMesh (IAA_WITH_CGAL / IAA_WITH_OPENMESH): "
-              "meshes cannot be read or ray-cast");
+  throw Error(
+      "this iaa was built without CGAL or OpenMesh (IAA_WITH_CGAL / IAA_WITH_OPENMESH): "
+      "meshes cannot be read or ray-cast");
 #else
   if (tools::extension_of(o.output) != "png") {
     throw Error("-o: the diff picture must be a .png file, got '" + o.output + "'");
@@ -41,7 +43,8 @@ void run(const CompareOptions& o) {
   if (!o.report.empty() && tools::extension_of(o.report) != "json") {
     throw Error("--report: the report must be a .json file, got '" + o.report + "'");
   }
-  if (o.rays < 1 || o.rays > 16) throw SettingError("--rays must be in 1..16, got " + std::to_string(o.rays));
+  if (o.rays < 1 || o.rays > 16)
+    throw SettingError("--rays must be in 1..16, got " + std::to_string(o.rays));
   std::vector<SceneOverride> overrides;
   for (const std::string& s : o.sets) overrides.push_back(parse_override(s));
   const Scene scene = parse_scene(tools::read_file(o.scene), o.scene, overrides);
@@ -78,15 +81,18 @@ void run(const CompareOptions& o) {
   const CompareCounts& k = cmp.counts;
   std::printf("scene        %s (%dx%d), mesh %s: %zu triangles\n", scene.name.c_str(), film.width,
               film.height, o.mesh.c_str(), mesh.triangles.size());
-  std::printf("lost         %llu pixels (IAA certifies surface, the mesh shows none)\n", (unsigned long long)k.lost);
-  std::printf("wrong        %llu pixels (IAA certifies empty, the mesh shows surface)\n", (unsigned long long)k.wrong);
+  std::printf("lost         %llu pixels (IAA certifies surface, the mesh shows none)\n",
+              (unsigned long long)k.lost);
+  std::printf("wrong        %llu pixels (IAA certifies empty, the mesh shows surface)\n",
+              (unsigned long long)k.wrong);
   std::printf("agree        %llu surface, %llu empty\n", (unsigned long long)k.both_surface,
               (unsigned long long)k.both_empty);
   std::printf("uncertain    %llu pixels IAA could not decide: %llu with mesh, %llu without\n",
-              (unsigned long long)(k.uncertain_mesh + k.uncertain_empty), (unsigned long long)k.uncertain_mesh,
-              (unsigned long long)k.uncertain_empty);
+              (unsigned long long)(k.uncertain_mesh + k.uncertain_empty),
+              (unsigned long long)k.uncertain_mesh, (unsigned long long)k.uncertain_empty);
   std::printf("time         render %.3f s, mesh cast %.3f s\n", t_render, t_cast);
-  std::printf("wrote        %s (red: lost, blue: wrong, amber: undecided without mesh)\n", o.output.c_str());
+  std::printf("wrote        %s (red: lost, blue: wrong, amber: undecided without mesh)\n",
+              o.output.c_str());
   if (!o.report.empty()) {
     double cov = 0;
     for (float c : view.coverage) cov += c;
@@ -115,7 +121,8 @@ void run(const CompareOptions& o) {
 
 void setup(CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
-  app.add_option("scene", o->scene, "scene file (TOML): surface, camera and image size")->required();
+  app.add_option("scene", o->scene, "scene file (TOML): surface, camera and image size")
+      ->required();
   app.add_option("--mesh", o->mesh, "mesh file (.ply, .obj, .off)")->required();
   app.add_option("-o,--output", o->output, "diff picture (.png)")->required();
   app.add_option("--report", o->report, "write the counts as JSON");
@@ -130,11 +137,14 @@ void setup(CLI::App& app) {
       "Examples:\n"
       "  iaa mesh data/scenes/teardrop.toml -o teardrop.ply\n"
       "  iaa compare data/scenes/teardrop.toml --mesh teardrop.ply -o diff.png --report diff.json\n"
-      "  iaa compare data/scenes/chubs.toml --mesh chubs.obj -o diff.png --set image.width=250 --set image.height=250");
+      "  iaa compare data/scenes/chubs.toml --mesh chubs.obj -o diff.png --set image.width=250 "
+      "--set image.height=250");
   app.callback([o] { run(*o); });
 }
 
-CommandRegistrar reg{{"compare", "set a mesh against the ray trace's certificates: lost and wrong pixels", 45, setup}};
+CommandRegistrar reg{{"compare",
+                      "set a mesh against the ray trace's certificates: lost and wrong pixels", 45,
+                      setup}};
 
 }  // namespace
 }  // namespace iaa::cli

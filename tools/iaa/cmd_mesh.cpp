@@ -48,7 +48,8 @@ void run(const MeshOptions& o) {
   exec.threads = o.threads;
   exec.progress = &bar;
   meshing::MeshRun run = meshing::run_mesher(method, surface, o.p, exec);
-  const TriangleSoup& mesh = run.soup;
+  TriangleSoup& mesh = run.soup;
+  round_to_file_precision(mesh);  // report on exactly what the file holds
   if (mesh.triangles.empty()) {
     std::string why = "the " + std::string(meshing::method_label(method)) +
                       " mesher found no surface (no sign change of f was seen)";
