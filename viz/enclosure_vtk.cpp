@@ -20,6 +20,7 @@
 #include <vtkTypeUInt64Array.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkUnstructuredGrid.h>
+#include <vtkVariant.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
@@ -72,10 +73,13 @@ vtkAbstractArray* field(vtkUnstructuredGrid* g, const char* name, const std::str
   return a;
 }
 
-double field_number(vtkUnstructuredGrid* g, const char* name, const std::string& path) {
+std::uint64_t field_number(vtkUnstructuredGrid* g, const char* name, const std::string& path) {
   auto* a = vtkDataArray::SafeDownCast(field(g, name, path));
   if (!a) throw Error("'" + path + "': field data '" + name + "' is not numeric");
-  return a->GetComponent(0, 0);
+  bool ok = false;
+  const vtkTypeUInt64 v = a->GetVariantValue(0).ToTypeUInt64(&ok);
+  if (!ok) throw Error("'" + path + "': field data '" + name + "' is not a count");
+  return v;
 }
 
 }  // namespace
@@ -216,11 +220,9 @@ EnclosureFile read_enclosure_vtu(const std::string& path) {
   s.bounds = enc.bounds;
   s.depth = static_cast<int>(field_number(g, "depth", path));
   s.refine_possible = static_cast<int>(field_number(g, "refine_possible", path));
-  s.max_boxes = vtkTypeUInt64Array::SafeDownCast(field(g, "max_boxes", path))
-                    ? vtkTypeUInt64Array::SafeDownCast(field(g, "max_boxes", path))->GetValue(0)
-                    : static_cast<std::uint64_t>(field_number(g, "max_boxes", path));
-  enc.evaluations = static_cast<std::uint64_t>(field_number(g, "evaluations", path));
-  enc.corner_evaluations = static_cast<std::uint64_t>(field_number(g, "corner_evaluations", path));
+  s.max_boxes = field_number(g, "max_boxes", path);
+  enc.evaluations = field_number(g, "evaluations", path);
+  enc.corner_evaluations = field_number(g, "corner_evaluations", path);
   s.validate();
 
   const vtkIdType nc = g->GetNumberOfCells();
@@ -228,7 +230,9 @@ EnclosureFile read_enclosure_vtu(const std::string& path) {
   auto* cls = vtkUnsignedCharArray::SafeDownCast(cell_array(g, "class", 1, nc, path));
   auto* flo = vtkDoubleArray::SafeDownCast(cell_array(g, "f_lo", 1, nc, path));
   auto* fhi = vtkDoubleArray::SafeDownCast(cell_array(g, "f_hi", 1, nc, path));
-  auto* index = vtkTypeUInt32Array::SafeDownCast(cell_array(g, "index", 3, nc, path));
+  // The reader makes the platform's array classes (vtkUnsignedIntArray for UInt32).
+  auto* index =
+      vtkAOSDataArrayTemplate<vtkTypeUInt32>::SafeDownCast(cell_array(g, "index", 3, nc, path));
   if (!depth || !cls || !flo || !fhi || !index) {
     throw Error("'" + path + "' is not an iaa enclosure: a cell array has the wrong type");
   }
