@@ -1,8 +1,11 @@
 // `iaa enclose`: the guaranteed enclosure octree of a surface (libiaa/enclose/octree.h), written
 // as a .vtu of voxels (viz/enclosure_vtk.h) and summarised on stdout and in a JSON report.
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -42,6 +45,12 @@ struct EncloseOptions {
 std::string fmt(double v) {
   char b[40];
   std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+/// Short form for messages.
+std::string brief(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.6g", v);
   return b;
 }
 
@@ -103,7 +112,7 @@ Box3 parse_bounds(const std::string& text) {
 /// The smallest depth whose cells are no larger than `size` along every axis.
 int depth_for_cell_size(const Box3& b, double size) {
   if (!(size > 0) || !std::isfinite(size)) {
-    throw SettingError("--cell-size must be a positive number, got " + fmt(size));
+    throw SettingError("--cell-size must be a positive number, got " + brief(size));
   }
   const Vec3 e = b.size();
   const double edge = std::fmax(e.x, std::fmax(e.y, e.z));
@@ -111,9 +120,9 @@ int depth_for_cell_size(const Box3& b, double size) {
   while (d <= EncloseSettings::kMaxDepth && std::ldexp(edge, -d) > size) ++d;
   if (d > EncloseSettings::kMaxDepth) {
     throw SettingError(
-        "--cell-size " + fmt(size) + " needs more than depth " +
-        std::to_string(EncloseSettings::kMaxDepth) + " (the limit) for a box edge of " + fmt(edge) +
-        "; the smallest cell size here is " + fmt(std::ldexp(edge, -EncloseSettings::kMaxDepth)));
+        "--cell-size " + brief(size) + " needs more than depth " +
+        std::to_string(EncloseSettings::kMaxDepth) + " (the limit) for a box edge of " + brief(edge) +
+        "; the smallest cell size here is " + brief(std::ldexp(edge, -EncloseSettings::kMaxDepth)));
   }
   return d;
 }
@@ -145,6 +154,19 @@ void run(const EncloseOptions& o) {
 #endif
   if (!o.output.empty() && tools::extension_of(o.output) != "vtu") {
     throw Error("-o: the output must be a .vtu file, got '" + o.output + "'");
+  }
+  // Fail before the work, not after it, when an output cannot be written.
+  for (const std::string* out : {&o.output, &o.report}) {
+    if (out->empty()) continue;
+    const std::filesystem::path target(*out);
+    const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) {
+      throw Error("cannot write '" + *out + "': directory '" + dir.string() + "' does not exist");
+    }
+    if (::access(dir.c_str(), W_OK) != 0) {
+      throw Error("cannot write '" + *out + "': directory '" + dir.string() + "' is not writable");
+    }
   }
   std::string expression;
   std::shared_ptr<const Tape> tape;
