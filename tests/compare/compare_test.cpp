@@ -1,0 +1,121 @@
+// `compare`: the per-pixel verdicts on hand-made data, and a sphere mesh against the sphere's own
+// render: no wrong pixels, lost pixels only along the silhouette, and a hole cut into the mesh
+// shows up as lost pixels.
+#include "compare/compare.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "io/scene.h"
+#include "mesh/mesh_raycast.h"
+#include "mesh/octree_mesher.h"
+#include "render/render.h"
+
+namespace iaa {
+namespace {
+
+TEST(Compare, VerdictsPerPixel) {
+  Film film(3, 2);
+  film.certificate = {PixelCertificate::kEmpty,     PixelCertificate::kEmpty,
+                      PixelCertificate::kCovered,   PixelCertificate::kCovered,
+                      PixelCertificate::kUncertain, PixelCertificate::kNotRendered};
+  const std::vector<std::uint8_t> mesh = {0, 1, 1, 0, 0, 1};
+  const Comparison c = compare_with_film(film, mesh);
+  EXPECT_EQ(c.pixel[0], PixelAgreement::kBothEmpty);
+  EXPECT_EQ(c.pixel[1], PixelAgreement::kWrong);
+  EXPECT_EQ(c.pixel[2], PixelAgreement::kBothSurface);
+  EXPECT_EQ(c.pixel[3], PixelAgreement::kLost);
+  EXPECT_EQ(c.pixel[4], PixelAgreement::kUncertainEmpty);
+  EXPECT_EQ(c.pixel[5], PixelAgreement::kNotCompared);
+  EXPECT_EQ(c.counts.pixels, 5u);
+  EXPECT_EQ(c.counts.lost, 1u);
+  EXPECT_EQ(c.counts.wrong, 1u);
+  EXPECT_EQ(diff_picture(film, c).size(), 6u);
+  EXPECT_THROW(compare_with_film(film, {0, 1}), Error);
+}
+
+#ifdef IAA_HAVE_CGAL
+
+const char* kSphereScene = R"(
+name = "sphere"
+[surface]
+expression = "x^2 + y^2 + z^2 - 0.64"
+min = [-1, -1, -1]
+max = [1, 1, 1]
+[camera]
+eye = [0.4, 0.5, 3.0]
+look_at = [0, 0, 0]
+up = [0, 1, 0]
+fov = 40
+[image]
+width = 80
+height = 80
+)";
+
+struct SphereCase {
+  Scene scene = parse_scene(kSphereScene, "sphere.toml");
+  Film film;
+  TriangleSoup mesh;
+  SphereCase() {
+    RenderSettings rs = scene.settings;
+    rs.method = RenderMethod::kIaa;
+    film = render(scene, rs);
+    OctreeMeshSettings s;
+    s.enclose.bounds = scene.bounds;
+    s.enclose.depth = 6;
+    mesh = mesh_octree(*scene.tape, s).soup;
+  }
+  // True when a pixel has a neighbour (8-connected) that IAA does not certify as covered.
+  bool on_silhouette(int x, int y) const {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int u = x + dx, v = y + dy;
+        if (u < 0 || v < 0 || u >= film.width || v >= film.height) return true;
+        if (film.cert(u, v) != PixelCertificate::kCovered) return true;
+      }
+    }
+    return false;
+  }
+};
+
+TEST(Compare, SphereMeshAgreesWithItsRender) {
+  const SphereCase c;
+  const MeshView view = view_mesh(c.mesh, c.scene, 2);
+  const Comparison cmp = compare_with_film(c.film, view.any);
+  EXPECT_GT(cmp.counts.both_surface, 1000u);
+  EXPECT_EQ(cmp.counts.wrong, 0u);
+  for (int y = 0; y < c.film.height; ++y) {
+    for (int x = 0; x < c.film.width; ++x) {
+      if (cmp.pixel[c.film.index(x, y)] == PixelAgreement::kLost) {
+        EXPECT_TRUE(c.on_silhouette(x, y)) << "lost pixel inside the silhouette at " << x << "," << y;
+      }
+    }
+  }
+}
+
+TEST(Compare, AHoleInTheMeshShowsAsLostPixels) {
+  SphereCase c;
+  const std::uint64_t lost_before =
+      compare_with_film(c.film, view_mesh(c.mesh, c.scene, 1).any).counts.lost;
+  // Delete the triangles of a patch facing the camera (and those behind it, so nothing shows
+  // through): every triangle within 0.25 of the line from the eye through the centre.
+  const Vec3 eye = c.scene.camera.eye, d = normalize(-1.0 * eye);
+  std::vector<std::array<std::uint32_t, 3>> kept;
+  for (const auto& t : c.mesh.triangles) {
+    const Vec3 m = (c.mesh.vertices[t[0]] + c.mesh.vertices[t[1]] + c.mesh.vertices[t[2]]) / 3.0;
+    const Vec3 r = m - eye;
+    if (length(r - dot(r, d) * d) > 0.25) kept.push_back(t);
+  }
+  ASSERT_LT(kept.size(), c.mesh.triangles.size());
+  c.mesh.triangles = kept;
+  const Comparison cmp = compare_with_film(c.film, view_mesh(c.mesh, c.scene, 1).any);
+  EXPECT_EQ(cmp.counts.wrong, 0u);
+  EXPECT_GT(cmp.counts.lost, lost_before + 50);
+}
+
+#endif
+
+}  // namespace
+}  // namespace iaa
