@@ -8,7 +8,7 @@ packages=(
   libboost-dev libtbb-dev libgtest-dev libbenchmark-dev librapidcheck-dev
   libpng-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
   libcgal-dev libgmp-dev libmpfr-dev libopenmesh-dev libvtk9-dev
-  xvfb xauth
+  xvfb xauth libgl1-mesa-dri
   clang-14 libclang-rt-14-dev
 )
 

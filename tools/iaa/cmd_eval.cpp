@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "common/files.h"
 #include "core/error.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
@@ -17,6 +18,8 @@ namespace {
 
 struct EvalOptions {
   std::string expr;
+  bool has_expr = false;
+  std::string file;
   std::string at;
   std::string box;
   std::vector<std::string> params;
@@ -24,6 +27,7 @@ struct EvalOptions {
 };
 
 std::string fmt(double v) {
+  if (v == 0.0) v = 0.0;  // print -0 as 0
   char b[40];
   std::snprintf(b, sizeof b, "%.17g", v);
   return b;
@@ -48,7 +52,11 @@ Params parse_params(const std::vector<std::string>& items) {
 }
 
 void run(const EvalOptions& o) {
-  const Tape tape = Tape::parse(o.expr, parse_params(o.params));
+  if (o.has_expr == !o.file.empty()) {
+    throw Error("give the expression either as an argument or with --file (exactly one)");
+  }
+  const std::string text = o.file.empty() ? o.expr : tools::read_file(o.file);
+  const Tape tape = Tape::parse(text, parse_params(o.params));
   std::printf("expression  %s\n", tape.to_text().c_str());
   std::printf("tape        %d slots, %d operations\n", tape.size(), tape.op_count());
   if (o.tape) std::printf("\n%s", tape.listing().c_str());
@@ -69,12 +77,19 @@ void run(const EvalOptions& o) {
   }
   if (!o.box.empty()) {
     const IBox box(parse_box(o.box, "--box"));
-    RoundingScope scope;
-    IntervalEval ie(tape);
-    IntervalGradEval ig(tape);
-    const Interval v = ie.eval(box);
-    const bool partial = ie.partial_domain();
-    const IGrad g = ig.eval(box);
+    // Evaluate inside a rounding scope, print outside it: printf rounds in the current mode, and
+    // a lower bound printed upward would no longer be a lower bound.
+    Interval v;
+    IGrad g;
+    bool partial = false;
+    {
+      RoundingScope scope;
+      IntervalEval ie(tape);
+      IntervalGradEval ig(tape);
+      v = ie.eval(box);
+      partial = ie.partial_domain();
+      g = ig.eval(box);
+    }
     std::printf("\nover %s x %s x %s\n", fmt(box.x).c_str(), fmt(box.y).c_str(),
                 fmt(box.z).c_str());
     std::printf(
@@ -95,8 +110,9 @@ void run(const EvalOptions& o) {
 
 void setup(CLI::App& app) {
   auto opts = std::make_shared<EvalOptions>();
-  app.add_option("expr", opts->expr, "the expression f(x,y,z), e.g. 'x^2 + y^2 + z^2 - 1'")
-      ->required();
+  CLI::Option* expr =
+      app.add_option("expr", opts->expr, "the expression f(x,y,z), e.g. 'x^2 + y^2 + z^2 - 1'");
+  app.add_option("-f,--file", opts->file, "read the expression from this file instead");
   app.add_option("--at", opts->at, "evaluate f and its gradient at the point X,Y,Z");
   app.add_option("--box", opts->box, "evaluate F and its interval gradient over X0:X1,Y0:Y1,Z0:Z1");
   app.add_option("-p,--param", opts->params, "a named parameter NAME=VALUE (repeatable)");
@@ -105,8 +121,12 @@ void setup(CLI::App& app) {
       "Examples:\n"
       "  iaa eval 'x^2 + y^2 + z^2 - r^2' --param r=0.5 --at 0.5,0,0\n"
       "  iaa eval '0.5*x^5 + 0.5*x^4 - y^2 - z^2' --box -0.1:0.1,-0.01:0.01,-0.01:0.01\n"
-      "  iaa eval 'min(x, y) + sqrt(z)' --tape");
-  app.callback([opts] { run(*opts); });
+      "  iaa eval 'min(x, y) + sqrt(z)' --tape\n"
+      "  iaa eval --file surface.txt --at 0,0,0");
+  app.callback([opts, expr] {
+    opts->has_expr = expr->count() > 0;
+    run(*opts);
+  });
 }
 
 CommandRegistrar reg{
