@@ -43,5 +43,5 @@ check missing-file 1 "cannot read" -- "$iaa" eval --file "$tmp/none.txt"
 python3 -c 'print("(" * 100000 + "x" + ")" * 100000)' > "$tmp/deep.txt"
 check deep-nesting 1 "nested too deeply" -- "$iaa" eval --file "$tmp/deep.txt" --at 0,0,0
 check help 0 "Examples:" -- "$iaa" eval --help
-check no-command nonzero "iaa" -- "$iaa"
+check no-command nonzero "subcommand is required" -- "$iaa"
 exit $fail
