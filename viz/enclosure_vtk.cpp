@@ -5,6 +5,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <numeric>
 
@@ -48,12 +50,52 @@ vtkSmartPointer<A> scalar_field(const char* name, T value) {
   return a;
 }
 
-/// Runs f(begin, end) over [0, n) in parallel chunks.
-template <class F>
-void parallel_chunks(std::size_t n, F&& f) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
-                    [&](const auto& r) { f(r.begin(), r.end()); });
-}
+/// Cells per chunk of the point numbering.
+constexpr std::size_t kChunk = 1024;
+
+/// The unique corners of one chunk and its connectivity in chunk-local point numbers.
+struct ChunkPoints {
+  std::vector<std::array<std::uint32_t, 3>> keys;
+  std::vector<std::uint32_t> local;
+};
+
+/// Open-addressing map from a corner to its chunk-local number; sized for a whole chunk's 8
+/// corners per cell at half load, so it never grows; cleared between chunks.
+class CornerTable {
+ public:
+  CornerTable() : slots_(kSize) {}
+  /// Empties the table in time proportional to what it holds.
+  void clear() {
+    for (std::size_t i : used_) slots_[i] = Slot{};
+    used_.clear();
+  }
+  std::uint32_t id(const std::array<std::uint32_t, 3>& k,
+                   std::vector<std::array<std::uint32_t, 3>>* keys) {
+    std::uint64_t h =
+        k[0] * 0x9E3779B97F4A7C15ull ^ k[1] * 0xC2B2AE3D27D4EB4Full ^ k[2] * 0x165667B19E3779F9ull;
+    h ^= h >> 29;
+    for (std::size_t i = h & (kSize - 1);; i = (i + 1) & (kSize - 1)) {
+      Slot& s = slots_[i];
+      if (s.id == kEmpty) {
+        s = Slot{k, static_cast<std::uint32_t>(keys->size())};
+        keys->push_back(k);
+        used_.push_back(i);
+        return s.id;
+      }
+      if (s.key[0] == k[0] && s.key[1] == k[1] && s.key[2] == k[2]) return s.id;
+    }
+  }
+
+ private:
+  static constexpr std::size_t kSize = 16 * kChunk;
+  static constexpr std::uint32_t kEmpty = 0xffffffffu;
+  struct Slot {
+    std::array<std::uint32_t, 3> key{};
+    std::uint32_t id = kEmpty;
+  };
+  std::vector<Slot> slots_;
+  std::vector<std::size_t> used_;
+};
 
 vtkDataArray* cell_array(vtkUnstructuredGrid* g, const char* name, int components, vtkIdType tuples,
                          const std::string& path) {
@@ -89,7 +131,41 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   const std::size_t n = enc.cells.size();
   const auto nc = static_cast<vtkIdType>(n);
 
-  auto coords = make_array<vtkDoubleArray>("Points", 3, 8 * nc);
+  int max_depth = 0;
+  for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
+    if (enc.counts_by_depth[d][0] + enc.counts_by_depth[d][1] > 0) max_depth = static_cast<int>(d);
+  }
+
+  // Pass 1, per chunk of consecutive cells (compact in space: Morton order): the chunk's unique
+  // corners, as integer positions on the grid of the deepest cells, and its connectivity in
+  // chunk-local point numbers. Corners shared across chunks are repeated, which costs little.
+  const std::size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<ChunkPoints> parts(chunks);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const auto& r) {
+    CornerTable table;
+    for (std::size_t ch = r.begin(); ch != r.end(); ++ch) {
+      table.clear();
+      ChunkPoints& part = parts[ch];
+      const std::size_t b = ch * kChunk, e = std::min(n, b + kChunk);
+      part.local.resize(8 * (e - b));
+      for (std::size_t i = b; i < e; ++i) {
+        const Cell& c = enc.cells[i];
+        const int shift = max_depth - c.depth;
+        // VTK_VOXEL order: x fastest, then y, then z (the octree's child order).
+        for (int k = 0; k < 8; ++k) {
+          const std::array<std::uint32_t, 3> key{(c.index[0] + (k & 1)) << shift,
+                                                 (c.index[1] + ((k >> 1) & 1)) << shift,
+                                                 (c.index[2] + ((k >> 2) & 1)) << shift};
+          part.local[8 * (i - b) + k] = table.id(key, &part.keys);
+        }
+      }
+    }
+  });
+  std::vector<std::uint64_t> base(chunks + 1, 0);
+  for (std::size_t ch = 0; ch < chunks; ++ch) base[ch + 1] = base[ch] + parts[ch].keys.size();
+  const auto np = static_cast<vtkIdType>(base[chunks]);
+
+  auto coords = make_array<vtkDoubleArray>("Points", 3, np);
   auto conn = make_array<vtkIdTypeArray>("connectivity", 1, 8 * nc);
   auto offsets = make_array<vtkIdTypeArray>("offsets", 1, nc + 1);
   auto types = make_array<vtkUnsignedCharArray>("types", 1, nc);
@@ -109,26 +185,35 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   double* hi = fhi->GetPointer(0);
   std::uint32_t* ix = index->GetPointer(0);
   of[nc] = 8 * nc;
-  parallel_chunks(n, [&](std::size_t b, std::size_t e) {
-    RoundingScope scope;  // grid coordinates are defined with upward rounding (octree.h)
-    for (std::size_t i = b; i < e; ++i) {
-      const Cell& c = enc.cells[i];
-      const Box3 box = enc.box(c);
-      // VTK_VOXEL order: x fastest, then y, then z (the octree's child order).
-      for (int k = 0; k < 8; ++k) {
-        double* q = p + 24 * i + 3 * k;
-        q[0] = (k & 1) ? box.hi.x : box.lo.x;
-        q[1] = (k & 2) ? box.hi.y : box.lo.y;
-        q[2] = (k & 4) ? box.hi.z : box.lo.z;
-        cn[8 * i + k] = static_cast<vtkIdType>(8 * i + k);
+  // Pass 2: global numbers and the arrays. Grid coordinates are defined with upward rounding
+  // (octree.h), which makes the points exactly the corners of Enclosure::box.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const auto& r) {
+    RoundingScope scope;
+    for (std::size_t ch = r.begin(); ch != r.end(); ++ch) {
+      ChunkPoints& part = parts[ch];
+      const std::uint64_t pb = base[ch];
+      for (std::size_t j = 0; j < part.keys.size(); ++j) {
+        for (int a = 0; a < 3; ++a) {
+          p[3 * (pb + j) + a] = grid_coordinate_upward(enc.bounds.lo[a], enc.bounds.hi[a],
+                                                       part.keys[j][a], max_depth);
+        }
       }
-      of[i] = static_cast<vtkIdType>(8 * i);
-      ty[i] = VTK_VOXEL;
-      de[i] = c.depth;
-      cl[i] = static_cast<unsigned char>(c.cls);
-      lo[i] = c.f.lo();
-      hi[i] = c.f.hi();
-      for (int a = 0; a < 3; ++a) ix[3 * i + a] = c.index[a];
+      const std::size_t b = ch * kChunk, e = std::min(n, b + kChunk);
+      for (std::size_t i = b; i < e; ++i) {
+        const Cell& c = enc.cells[i];
+        for (int k = 0; k < 8; ++k) {
+          cn[8 * i + k] = static_cast<vtkIdType>(pb + part.local[8 * (i - b) + k]);
+        }
+        of[i] = static_cast<vtkIdType>(8 * i);
+        ty[i] = VTK_VOXEL;
+        de[i] = c.depth;
+        cl[i] = static_cast<unsigned char>(c.cls);
+        lo[i] = c.f.lo();
+        hi[i] = c.f.hi();
+        for (int a = 0; a < 3; ++a) ix[3 * i + a] = c.index[a];
+      }
+      ChunkPoints().keys.swap(part.keys);
+      std::vector<std::uint32_t>().swap(part.local);
     }
   });
 
@@ -182,6 +267,8 @@ void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid) {
   writer->EncodeAppendedDataOff();  // raw binary, not base64
   writer->SetCompressorTypeToLZ4();
   writer->SetHeaderTypeToUInt64();
+  // Int32 point numbers when they fit: half the bytes of connectivity and offsets.
+  if (grid->GetNumberOfCells() < (vtkIdType{1} << 27)) writer->SetIdTypeToInt32();
   writer->SetBlockSize(1 << 20);
   if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
     throw Error("cannot write '" + path + "': the VTK writer failed");
@@ -253,8 +340,8 @@ EnclosureFile read_enclosure_vtu(const std::string& path) {
   }
 
   // Check the voxels' points against the boxes the indices describe.
-  out.points_match_boxes = g->GetNumberOfPoints() == 8 * nc;
-  if (out.points_match_boxes) {
+  out.points_match_boxes = true;
+  {
     vtkCellArray* cells = g->GetCells();
     vtkPoints* pts = g->GetPoints();
     RoundingScope scope;

@@ -104,22 +104,9 @@ class CornerCache {
   std::size_t used_ = 0;
 };
 
-/// 2^-d for every depth a grid can have.
-struct InversePowers {
-  double v[64];
-  InversePowers() {
-    for (int d = 0; d < 64; ++d) v[d] = std::ldexp(1.0, -d);
-  }
-};
-const InversePowers kInvPow2;
-
-/// grid_coordinate without the rounding-mode check, for the hot loop (a RoundingScope is open).
+/// The hot loop's grid coordinates (a RoundingScope is open).
 inline double grid_coord_up(double lo, double hi, std::uint64_t i, int depth) {
-  const std::uint64_t n = std::uint64_t{1} << depth;
-  if (i == 0) return lo;
-  if (i >= n) return hi;
-  // i / 2^depth is exact; the product and the sum round upward, which keeps the map monotone.
-  return lo + (static_cast<double>(i) * kInvPow2.v[depth]) * (hi - lo);
+  return grid_coordinate_upward(lo, hi, i, depth);
 }
 
 /// State shared by all subtree tasks.
@@ -321,7 +308,7 @@ double grid_coordinate(double lo, double hi, std::uint64_t i, int depth) {
     RoundingScope scope;
     return grid_coordinate(lo, hi, i, depth);
   }
-  return grid_coord_up(lo, hi, i, depth);
+  return grid_coordinate_upward(lo, hi, i, depth);
 }
 
 bool canonical_less(const Cell& a, const Cell& b) {
@@ -354,10 +341,14 @@ void EncloseSettings::validate() const {
 }
 
 Box3 Enclosure::box(const Cell& c) const {
+  if (!rounding_is_upward()) {
+    RoundingScope scope;
+    return box(c);
+  }
   Box3 b;
   for (int a = 0; a < 3; ++a) {
-    b.lo[a] = grid_coordinate(bounds.lo[a], bounds.hi[a], c.index[a], c.depth);
-    b.hi[a] = grid_coordinate(bounds.lo[a], bounds.hi[a], c.index[a] + 1ull, c.depth);
+    b.lo[a] = grid_coordinate_upward(bounds.lo[a], bounds.hi[a], c.index[a], c.depth);
+    b.hi[a] = grid_coordinate_upward(bounds.lo[a], bounds.hi[a], c.index[a] + 1ull, c.depth);
   }
   return b;
 }

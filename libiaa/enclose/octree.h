@@ -82,6 +82,14 @@ struct Enclosure {
 /// RoundingScope is opened when none is active) so that every caller gets the same double.
 double grid_coordinate(double lo, double hi, std::uint64_t i, int depth);
 
+/// grid_coordinate for callers that hold a RoundingScope (not checked): the hot-loop version.
+inline double grid_coordinate_upward(double lo, double hi, std::uint64_t i, int depth) {
+  if (i == 0) return lo;
+  if (i >= (std::uint64_t{1} << depth)) return hi;
+  // i / 2^depth is exact; the product and the sum round upward, which keeps the map monotone.
+  return lo + (static_cast<double>(i) / static_cast<double>(std::uint64_t{1} << depth)) * (hi - lo);
+}
+
 /// Canonical order of cells: by depth, then by Morton order of the index (x the least significant
 /// bit of each octal digit, then y, then z), which is the depth-first order of the octree.
 bool canonical_less(const Cell& a, const Cell& b);
