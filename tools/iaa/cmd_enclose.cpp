@@ -119,10 +119,11 @@ int depth_for_cell_size(const Box3& b, double size) {
   int d = 1;
   while (d <= EncloseSettings::kMaxDepth && std::ldexp(edge, -d) > size) ++d;
   if (d > EncloseSettings::kMaxDepth) {
-    throw SettingError(
-        "--cell-size " + brief(size) + " needs more than depth " +
-        std::to_string(EncloseSettings::kMaxDepth) + " (the limit) for a box edge of " + brief(edge) +
-        "; the smallest cell size here is " + brief(std::ldexp(edge, -EncloseSettings::kMaxDepth)));
+    throw SettingError("--cell-size " + brief(size) + " needs more than depth " +
+                       std::to_string(EncloseSettings::kMaxDepth) +
+                       " (the limit) for a box edge of " + brief(edge) +
+                       "; the smallest cell size here is " +
+                       brief(std::ldexp(edge, -EncloseSettings::kMaxDepth)));
   }
   return d;
 }
@@ -247,13 +248,12 @@ void run(const EncloseOptions& o) {
               static_cast<unsigned long long>(crossing), static_cast<unsigned long long>(possible));
   for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
     const auto& c = enc.counts_by_depth[d];
-    if (d > static_cast<std::size_t>(s.depth) ||
-        (s.refine_possible && d == static_cast<std::size_t>(s.depth))) {
+    if (s.refine_possible && c[0] + c[1] > 0) {
       std::printf("  depth %-3zu  %llu crossing, %llu possible\n", d,
                   static_cast<unsigned long long>(c[0]), static_cast<unsigned long long>(c[1]));
     }
   }
-  std::printf("evaluations  %llu cells, %llu corners\n",
+  std::printf("evaluations  %llu cells, %llu points (corners and centres)\n",
               static_cast<unsigned long long>(enc.evaluations),
               static_cast<unsigned long long>(enc.corner_evaluations));
   std::printf("time         %.3f s enclose", t_enclose);
