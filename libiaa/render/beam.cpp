@@ -11,11 +11,20 @@ namespace iaa {
 
 namespace {
 
+/// slice_sign() of a slice that is not inside the bounds.
+constexpr int kOutside = 2;
+/// Slices tried for t_far.
+constexpr int kFarTries = 10;
+/// Tolerance-sized steps tried from the front before bisecting the rest of a range.
+constexpr int kMarchSteps = 4;
+/// Bisection steps that tighten t_far once a candidate succeeded.
+constexpr int kFarRefine = 3;
+
 /// Sign of F on the (unclipped) slice of the beam at depth t: +1 / -1 when proved with intervals
 /// on a slice inside the bounds without partial domain, else 0.
 int slice_sign(RenderContext& ctx, const IBox& dirs, double t) {
   const IBox slice = segment_box(ctx.setup.frame.eye, dirs, Interval(t));
-  if (!box_inside(slice, ctx.bounds())) return 0;
+  if (!box_inside(slice, ctx.bounds())) return kOutside;
   bool partial = false;
   const Interval f = ctx.eval(slice, &partial);
   if (partial) return 0;
@@ -37,8 +46,20 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   const double abs_floor = 1e-12 * std::max(1.0, range.hi());
   const double tol_factor = su.settings.depth_tolerance;
 
+  // The first kMarchSteps pieces are tolerance-sized steps from the front; the rest of the range
+  // is bisected. A sub-beam's first hit is usually within a few of its tolerances of its
+  // parent's t_near, where a march finds it in a few evaluations; bisection of the whole range
+  // would spend two per level on the way down.
   PieceStack st;
-  st.push(range.lo(), range.hi());
+  const double step = std::max(abs_floor, tol_factor * lateral * range.lo());
+  if (kMarchSteps > 0 && range.lo() + kMarchSteps * step < range.hi()) {
+    double ends[kMarchSteps + 1];
+    for (int k = 0; k <= kMarchSteps; ++k) ends[k] = range.lo() + k * step;
+    st.push(ends[kMarchSteps], range.hi());
+    for (int k = kMarchSteps - 1; k >= 0; --k) st.push(ends[k], ends[k + 1]);
+  } else {
+    st.push(range.lo(), range.hi());
+  }
   double a = 0, b = 0;
   bool found = false;
   bool kept_partial = false;
@@ -80,14 +101,34 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   // with the box of [t_near, t_far] inside the bounds and f continuous on it.
   const char* reason = "";
   const int s_near = slice_sign(ctx, out.dirs, a);
-  if (s_near == 0) {
+  if (s_near != 1 && s_near != -1) {
     reason = "no proved sign on the slice at t_near";
   } else {
     reason = "no slice with the opposite sign found";
-    double w = b - a;
-    double tf = b;
-    for (int k = 0; k < 4 && tf <= range.hi(); ++k) {
-      const int s_far = slice_sign(ctx, out.dirs, tf);
+    // Candidates t_near + w 2^k (w: the kept piece's width), the last one clamped to the end of
+    // the range. The depths whose slice lies inside the bounds form an interval, so the search
+    // stops at the first slice outside.
+    const double w = b - a;
+    double t_fail = a;  // the last candidate without the opposite sign
+    for (int k = 0; k < kFarTries; ++k) {
+      double tf = std::min(a + std::ldexp(w, k), range.hi());
+      int s_far = slice_sign(ctx, out.dirs, tf);
+      if (s_far == -s_near) {
+        // Tighten t_far by bisection between the last failure and tf: a shorter [t_near, t_far]
+        // gives a smaller hit box (a sharper estimator) and a shorter search for the children.
+        for (int r = 0; r < kFarRefine && tf - t_fail > w; ++r) {
+          const double tm = 0.5 * (t_fail + tf);
+          if (slice_sign(ctx, out.dirs, tm) == -s_near) {
+            tf = tm;
+          } else {
+            t_fail = tm;
+          }
+        }
+      }
+      if (s_far == kOutside) {
+        reason = "the slices leave the bounds before a sign change";
+        break;
+      }
       if (s_far == -s_near) {
         const IBox seg = segment_box(eye, out.dirs, Interval(a, tf));
         if (!box_inside(seg, ctx.bounds())) {
@@ -106,8 +147,8 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
         reason = "sign change proved between the slices at t_near and t_far";
         break;
       }
-      tf += w;
-      w *= 2;
+      if (tf >= range.hi()) break;
+      t_fail = tf;
     }
   }
   (void)kept_partial;

@@ -32,6 +32,8 @@ namespace {
 /// pixel.
 constexpr int kRootBlock = 32;
 constexpr int kMinBlock = 2;
+/// How far behind t_near (in beam widths) a Partial beam's central ray is searched for shading.
+constexpr double kPartialShadeReach = 8.0;
 
 bool may_be_partial(const Tape& tape) {
   for (const Instr& in : tape.instrs()) {
@@ -206,7 +208,13 @@ class Renderer {
   Vec3 shade_beam(const PixelRect& rect, const BeamSearch& s, Interval range, BeamTrace* t) {
     const double uc = 0.5 * (rect.u0 + rect.u1), vc = 0.5 * (rect.v0 + rect.v1);
     const Vec3 d = su_.frame.dir(uc, vc);
-    const Interval sr(s.t_near, s.result == BeamResult::kFull ? s.t_far : range.hi());
+    // Full: the central ray certainly hits in [t_near, t_far]. Partial: look for its hit only a
+    // few beam widths behind t_near (a hit further back would be hidden by whatever the beam
+    // touches first); beyond that the hit box's normal is used. This only chooses the shading
+    // point: the certificate and the coverage do not depend on it.
+    const double reach = kPartialShadeReach * su_.frame.scale * std::max(rect.width(), rect.height()) * s.t_near;
+    const Interval sr(s.t_near, s.result == BeamResult::kFull ? s.t_far
+                                                              : std::min(range.hi(), s.t_near + reach));
     const RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, su_.ray_tol,
                                 su_.frame.scale * sr.hi() * 4);
     Vec3 p, g;
