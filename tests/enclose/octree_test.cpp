@@ -236,6 +236,20 @@ TEST(Enclose, CertifiedRootsOnRandomSegmentsLieInTheLeaves) {
         }
       }
       EXPECT_GT(roots, segments / 4) << s.name << ": too few roots to test anything";
+      // Every crossing leaf has corners of proved opposite signs.
+      for (const Cell& c : e.cells) {
+        if (c.cls != CellClass::kCrossing) continue;
+        const Box3 b = e.box(c);
+        bool pos = false, neg = false;
+        for (int k = 0; k < 8; ++k) {
+          const int sign = test::proved_sign(
+              ie,
+              {(k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y, (k & 4) ? b.hi.z : b.lo.z});
+          pos |= sign > 0;
+          neg |= sign < 0;
+        }
+        ASSERT_TRUE(pos && neg) << s.name << ": crossing leaf without proved corner signs";
+      }
     }
     ++surfaces;
   }
