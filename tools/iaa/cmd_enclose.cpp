@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -42,9 +43,13 @@ struct EncloseOptions {
   bool quiet = false;
 };
 
+/// The shortest text that reads back as exactly v.
 std::string fmt(double v) {
   char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(b, sizeof b, "%.*g", digits, v);
+    if (std::strtod(b, nullptr) == v) break;
+  }
   return b;
 }
 /// Short form for messages.
