@@ -41,6 +41,7 @@ struct EncloseOptions {
   std::string report;
   int threads = 0;
   bool quiet = false;
+  bool depth_given = false;  ///< --depth appeared on the command line
 };
 
 /// The shortest text that reads back as exactly v.
@@ -147,6 +148,12 @@ void run(const EncloseOptions& o) {
         "a scene's)");
   }
   if (o.scene.empty() && !o.sets.empty()) throw Error("--set needs a SCENE file");
+  if (!o.scene.empty() && !o.params.empty()) {
+    throw Error(
+        "--param is for --expr; change a scene's parameters with --set surface.params.NAME=VALUE");
+  }
+  if (o.depth_given && o.cell_size != 0)
+    throw Error("give either --depth or --cell-size, not both");
   if (o.scene.empty() && o.bounds.empty()) {
     throw Error("--bounds X0:X1,Y0:Y1,Z0:Z1 is required with --expr");
   }
@@ -309,8 +316,9 @@ void setup(CLI::App& app) {
                  "the box X0:X1,Y0:Y1,Z0:Z1 to enclose the surface in (default: the scene's)");
   app.add_option("-p,--param", o->params,
                  "a named parameter NAME=VALUE of the expression (repeatable)");
-  app.add_option("-d,--depth", o->depth, "leaf depth: cells are the bounds / 2^D per axis (1..21)")
-      ->capture_default_str();
+  CLI::Option* depth = app.add_option("-d,--depth", o->depth,
+                                      "leaf depth: cells are the bounds / 2^D per axis (1..21)")
+                           ->capture_default_str();
   app.add_option("--cell-size", o->cell_size,
                  "choose the depth so that cells are at most this large (instead of --depth)");
   app.add_option(
@@ -336,7 +344,10 @@ void setup(CLI::App& app) {
       "  iaa enclose data/scenes/teardrop.toml --depth 7 --refine-possible 3 -o teardrop.vtu\n"
       "  iaa enclose data/scenes/chubs.toml --cell-size 0.01 --report chubs.json -o chubs.vtu\n"
       "  iaa enclose --expr 'x^2 + y^2 + z^2 - r^2' -p r=0.5 --bounds -1:1,-1:1,-1:1 -d 5");
-  app.callback([o] { run(*o); });
+  app.callback([o, depth] {
+    o->depth_given = depth->count() > 0;
+    run(*o);
+  });
 }
 
 CommandRegistrar reg{{"enclose",
