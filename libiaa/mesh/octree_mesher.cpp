@@ -135,6 +135,7 @@ struct Centre {
 // Output of one block of leaves.
 struct Block {
   std::vector<std::array<U64, 3>> tris;  // refs: edge ids, or kCentreFlag | local centre index
+  std::vector<std::uint32_t> quads;      // tris[i], tris[i + 1] split a 4-loop along p0-p2
   std::vector<Centre> centres;
   std::vector<U64> loop_refs;
   std::vector<std::uint32_t> unmeshed;  // leaves with no loop
@@ -154,6 +155,9 @@ class Extractor {
     const int k = c.depth;
     const U64 s = U64{1} << (g_.level - k);
     const IPoint o{U64(c.index[0]) * s, U64(c.index[1]) * s, U64(c.index[2]) * s};
+    origin_ = o;
+    size_ = s;
+    cached_.fill(kNone);
     segs_.clear();
     for (int a = 0; a < 3; ++a) {
       for (int side = 0; side < 2; ++side) {
@@ -199,9 +203,24 @@ class Extractor {
     }
   }
 
+  // Position of p in the array of axis t; the leaf's own corners are looked up once per axis.
+  std::size_t find(int t, const IPoint& p) {
+    int k = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (p[a] == origin_[a] + size_) {
+        k |= 1 << a;
+      } else if (p[a] != origin_[a]) {
+        return g_.find(t, p);
+      }
+    }
+    std::size_t& c = cached_[std::size_t(3 * k + t)];
+    if (c == kNone) c = g_.find(t, p);
+    return c;
+  }
+
   // Walks one side of a polygon from corner A to corner B (they differ along axis t).
   void walk(int t, const IPoint& A, const IPoint& B) {
-    const std::size_t pa = g_.find(t, A), pb = g_.find(t, B);
+    const std::size_t pa = find(t, A), pb = find(t, B);
     if (pa < pb) {
       for (std::size_t j = pa; j < pb; ++j) {
         const bool n0 = g_.negative(t, j), n1 = g_.negative(t, j + 1);
@@ -286,6 +305,12 @@ class Extractor {
         out.tris.push_back({loop_[0], loop_[1], loop_[2]});
         continue;
       }
+      if (n == 4) {  // two triangles; the shorter diagonal is chosen once vertices are placed
+        out.quads.push_back(static_cast<std::uint32_t>(out.tris.size()));
+        out.tris.push_back({loop_[0], loop_[1], loop_[2]});
+        out.tris.push_back({loop_[0], loop_[2], loop_[3]});
+        continue;
+      }
       const U64 centre = kCentreFlag | out.centres.size();
       out.centres.push_back(
           {li, static_cast<std::uint32_t>(out.loop_refs.size()), static_cast<std::uint32_t>(n)});
@@ -296,8 +321,12 @@ class Extractor {
     }
   }
 
+  static constexpr std::size_t kNone = ~std::size_t{0};
   const Grid& g_;
   const Enclosure& e_;
+  IPoint origin_{};
+  U64 size_ = 0;
+  std::array<std::size_t, 24> cached_{};
   std::vector<std::array<U64, 3>> squares_;
   std::vector<Crossing> cross_;
   std::vector<std::pair<U64, U64>> segs_;
@@ -571,6 +600,17 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
             tri[std::size_t(k)] = static_cast<std::uint32_t>(v);
           }
           soup.triangles[tri_base[b] + t] = tri;
+        }
+        for (std::uint32_t q : bl.quads) {
+          auto& t0 = soup.triangles[tri_base[b] + q];
+          auto& t1 = soup.triangles[tri_base[b] + q + 1];
+          const std::uint32_t p0 = t0[0], p1 = t0[1], p2 = t0[2], p3 = t1[2];
+          const Vec3 d02 = soup.vertices[p2] - soup.vertices[p0];
+          const Vec3 d13 = soup.vertices[p3] - soup.vertices[p1];
+          if (dot(d13, d13) < dot(d02, d02)) {
+            t0 = {p1, p2, p3};
+            t1 = {p1, p3, p0};
+          }
         }
       });
     });

@@ -31,16 +31,22 @@ TriangleSoup octree(const Tape& t, const Box3& b, int depth, int refine = 4) {
   return mesh_octree(t, s).soup;
 }
 
-// Largest gap between the x coordinates of vertices with |x| < 0.3: where the neck is missing.
+// Longest stretch of x in [-0.3, 0.3] that no triangle spans: where the neck is missing.
 double neck_gap(const TriangleSoup& m) {
-  std::vector<double> xs;
-  for (const Vec3& p : m.vertices) {
-    if (std::fabs(p.x) < 0.3) xs.push_back(p.x);
+  std::vector<std::pair<double, double>> spans;
+  for (const auto& t : m.triangles) {
+    double lo = 1e300, hi = -1e300;
+    for (std::uint32_t v : t)
+      lo = std::min(lo, m.vertices[v].x), hi = std::max(hi, m.vertices[v].x);
+    if (hi >= -0.3 && lo <= 0.3) spans.push_back({lo, hi});
   }
-  std::sort(xs.begin(), xs.end());
-  double gap = 0;
-  for (std::size_t i = 1; i < xs.size(); ++i) gap = std::max(gap, xs[i] - xs[i - 1]);
-  return gap;
+  std::sort(spans.begin(), spans.end());
+  double gap = 0, reach = -0.3;
+  for (const auto& [lo, hi] : spans) {
+    gap = std::max(gap, std::min(lo, 0.3) - reach);
+    reach = std::max(reach, hi);
+  }
+  return std::max(gap, 0.3 - reach);
 }
 
 TEST(Peers, OctreeSphereAndTorusWithRealEnclosure) {
@@ -133,9 +139,12 @@ TEST(Peers, TeardropOctreeReachesNearerTheTipWithFewerTriangles) {
   EXPECT_LT(ours.triangles.size(), vtk.triangles.size());
   EXPECT_LT(ours.triangles.size(), cgal.triangles.size());
   const double g = neck_gap(ours);
-  EXPECT_LT(g, 0.06);
-  EXPECT_LT(2 * g, neck_gap(vtk));
-  EXPECT_LT(2 * g, neck_gap(cgal));
+  RecordProperty("gaps", std::to_string(g) + " " + std::to_string(neck_gap(vtk)) + " " +
+                             std::to_string(neck_gap(cgal)));
+  // The neck is thinner than the finest cell (2.1 / 2^11) only for |x| < ~0.02.
+  EXPECT_LT(g, 0.04);
+  EXPECT_GT(neck_gap(vtk), 3 * g);
+  EXPECT_GT(neck_gap(cgal), 3 * g);
 }
 #endif
 

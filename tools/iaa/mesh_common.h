@@ -109,7 +109,7 @@ inline Method parse_mesh_method(const std::string& text) {
 struct MeshParams {
   int resolution = 256;
   int depth = 0;   ///< octree depth; 0: from resolution
-  int refine = 6;  ///< octree: extra levels for possible leaves
+  int refine = 4;  ///< octree: extra levels for possible leaves
   std::uint64_t max_boxes = EncloseSettings{}.max_boxes;
   double facet_size = 0;      ///< cgal; 0: from resolution
   double facet_distance = 0;  ///< cgal; 0: facet_size / 4

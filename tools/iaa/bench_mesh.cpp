@@ -1,0 +1,136 @@
+// `iaa bench mesh`: the three meshers on the paper's five surfaces at one resolution, each mesh
+// set against the IAA render of its scene: wall time, triangles, lost and wrong pixels, in one run.
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "common/files.h"
+#include "compare/compare.h"
+#include "iaa/bench.h"
+#include "iaa/mesh_common.h"
+#include "mesh/mesh_io.h"
+#include "mesh/mesh_raycast.h"
+#include "render/render.h"
+
+namespace iaa::cli {
+namespace {
+
+struct Options {
+  std::string scenes = "data/scenes";
+  std::vector<std::string> surfaces = {"teardrop", "chubs", "tritrumpet", "twist", "blobby"};
+  std::vector<std::string> methods = {"octree", "cgal", "vtk"};
+  meshing::MeshParams p;
+  int image = 500;
+  int runs = 3;
+  int threads = 0;
+  std::string json;
+};
+
+void run(const Options& o) {
+#if !defined(IAA_HAVE_CGAL) || !defined(IAA_HAVE_OPENMESH)
+  throw Error("iaa bench mesh needs CGAL and OpenMesh (this iaa was built without them)");
+#else
+  if (o.runs < 1 || o.runs > 50)
+    throw SettingError("--runs must be in 1..50, got " + std::to_string(o.runs));
+  if (o.image < 8 || o.image > 4000)
+    throw SettingError("--image must be in 8..4000, got " + std::to_string(o.image));
+  std::vector<meshing::Method> methods;
+  for (const std::string& m : o.methods) methods.push_back(meshing::parse_mesh_method(m));
+  Exec exec;
+  exec.threads = o.threads;
+  std::printf(
+      "resolution %d (octree depth %d + refine %d, vtk grid %d, cgal facet size edge/%d), "
+      "images %dx%d, %d threads\n",
+      o.p.resolution, o.p.octree_depth(), o.p.refine, o.p.grid > 0 ? o.p.grid : o.p.resolution,
+      o.p.resolution, o.image, o.image, exec.resolved_threads());
+  std::printf("%-11s %-7s %9s %10s %8s %8s %10s  %s\n", "surface", "method", "time s", "triangles",
+              "lost px", "wrong px", "undecided", "notes");
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::string& name : o.surfaces) {
+    const std::string path = o.scenes + "/" + name + ".toml";
+    const std::string size = std::to_string(o.image);
+    Scene scene =
+        parse_scene(tools::read_file(path), path, {{"image.width", size}, {"image.height", size}});
+    meshing::Surface s;
+    s.name = scene.name;
+    s.expression = scene.expression;
+    s.tape = scene.tape;
+    s.bounds = scene.bounds;
+    RenderSettings rs = scene.settings;
+    rs.method = RenderMethod::kIaa;
+    const Film film = render(scene, rs, exec);
+    for (meshing::Method m : methods) {
+      // Median time over runs (CGAL, the slowest, once); the mesh of the last run is compared.
+      const int runs = m == meshing::Method::kCgal ? 1 : o.runs;
+      std::vector<double> times;
+      meshing::MeshRun last;
+      for (int r = 0; r < runs; ++r) {
+        last = meshing::run_mesher(m, s, o.p, exec);
+        times.push_back(last.seconds);
+      }
+      std::sort(times.begin(), times.end());
+      const double t = times[times.size() / 2];
+      round_to_file_precision(last.soup);
+      CompareCounts k;
+      if (!last.soup.empty())
+        k = compare_with_film(film, view_mesh(last.soup, scene, 1, exec).any).counts;
+      else
+        k.lost = film.stats.covered;
+      std::string notes;
+      if (last.details.contains("unmeshed_possible_leaves")) {
+        notes = last.details["unmeshed_possible_leaves"].dump() + " possible leaves unmeshed";
+      }
+      std::printf("%-11s %-7s %9.3f %10zu %8llu %8llu %10llu  %s\n", name.c_str(),
+                  meshing::method_label(m), t, last.soup.triangles.size(),
+                  (unsigned long long)k.lost, (unsigned long long)k.wrong,
+                  (unsigned long long)k.uncertain_empty, notes.c_str());
+      std::fflush(stdout);
+      out.push_back({{"surface", name},
+                     {"method", meshing::method_label(m)},
+                     {"seconds_median", t},
+                     {"runs", runs},
+                     {"triangles", last.soup.triangles.size()},
+                     {"lost_pixels", k.lost},
+                     {"wrong_pixels", k.wrong},
+                     {"undecided_without_mesh", k.uncertain_empty},
+                     {"iaa_covered_pixels", film.stats.covered},
+                     {"settings", last.details}});
+    }
+  }
+  std::printf(
+      "lost: IAA certifies surface in the pixel, the mesh shows none; wrong: IAA certifies\n"
+      "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n");
+  if (!o.json.empty()) tools::write_text_atomically(o.json, out.dump(2) + "\n");
+#endif
+}
+
+void setup(CLI::App& app) {
+  auto o = std::make_shared<Options>();
+  app.add_option("--scenes", o->scenes, "directory of the scene files")->capture_default_str();
+  app.add_option("--surface", o->surfaces, "surfaces (scene names) to run (repeatable)")
+      ->capture_default_str();
+  app.add_option("--method", o->methods, "meshers to run: octree, cgal, vtk (repeatable)")
+      ->capture_default_str();
+  app.add_option("--resolution", o->p.resolution, "grid resolution shared by the meshers")
+      ->capture_default_str();
+  app.add_option("--refine", o->p.refine, "octree: extra levels for possible leaves")
+      ->capture_default_str();
+  app.add_option("--image", o->image, "image size (square) of the compared views")
+      ->capture_default_str();
+  app.add_option("--runs", o->runs, "timed runs per mesher (median; cgal runs once)")
+      ->capture_default_str();
+  app.add_option("--threads", o->threads, "worker threads, 0 = all")->capture_default_str();
+  app.add_option("--json", o->json, "also write the table as JSON");
+  app.footer(
+      "Examples:\n"
+      "  iaa bench mesh\n"
+      "  iaa bench mesh --surface teardrop --resolution 128 --json mesh.json");
+  app.callback([o] { run(*o); });
+}
+
+BenchRegistrar reg{{"mesh", "octree, cgal and vtk meshers: time, triangles, lost pixels", setup}};
+
+}  // namespace
+}  // namespace iaa::cli
