@@ -134,6 +134,12 @@ struct MeshParams {
     if (resolution < 2 || resolution > 4096) {
       throw SettingError("--resolution must be in 2..4096, got " + std::to_string(resolution));
     }
+    if (depth < 0) throw SettingError("--depth must be positive (0: from --resolution)");
+    if (!(facet_size >= 0) || !(facet_distance >= 0)) {
+      throw SettingError(
+          "--facet-size and --facet-distance must be positive lengths (0: automatic)");
+    }
+    if (grid < 0) throw SettingError("--grid must be in 2..2048 (0: from --resolution)");
   }
 };
 

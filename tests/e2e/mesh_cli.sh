@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# End-to-end: `iaa mesh` with every method, its report, and its errors (no partial output).
+# $1 = bin directory, $2 = source directory.
+set -euo pipefail
+bin="$1"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+sphere=(--expr 'x^2 + y^2 + z^2 - 0.64' --bounds -1:1,-1:1,-1:1)
+
+# Octree: closed sphere, report with topology and the enclosure check.
+"$bin/iaa" mesh "${sphere[@]}" --resolution 32 -o "$tmp/s.ply" --report "$tmp/s.json" -q > "$tmp/out.txt"
+[ -s "$tmp/s.ply" ] || fail "no mesh written"
+grep -q '"euler_characteristic": 2' "$tmp/s.json" || fail "sphere Euler characteristic"
+grep -q '"boundary_edges": 0' "$tmp/s.json" || fail "sphere boundary edges"
+grep -q '"nonmanifold_edges": 0' "$tmp/s.json" || fail "sphere non-manifold edges"
+grep -q '"vertices_outside_enclosure": 0' "$tmp/s.json" || fail "vertices outside the enclosure"
+grep -q '^wrote' "$tmp/out.txt" || fail "summary"
+
+# Peers, and the other formats.
+for m in cgal vtk; do
+  "$bin/iaa" mesh "${sphere[@]}" --method "$m" --resolution 24 -o "$tmp/$m.obj" --report "$tmp/$m.json" -q > /dev/null
+  grep -q '"boundary_edges": 0' "$tmp/$m.json" || fail "$m sphere boundary edges"
+done
+"$bin/iaa" mesh "${sphere[@]}" --resolution 16 -o "$tmp/s.off" -q > /dev/null
+head -1 "$tmp/s.off" | grep -q OFF || fail "OFF output"
+
+# Bad input: clear message, non-zero exit, no file.
+expect_error() {  # expect_error PATTERN OUTPUT-FILE -- command...
+  local pattern="$1" out="$2"
+  shift 2
+  if "$@" > "$tmp/stdout" 2> "$tmp/stderr"; then fail "should fail: $*"; fi
+  grep -q -- "$pattern" "$tmp/stderr" || { cat "$tmp/stderr"; fail "message '$pattern' for: $*"; }
+  [ -z "$out" ] || [ ! -e "$out" ] || fail "partial output $out left behind"
+}
+expect_error "unknown mesher" "$tmp/e1.ply" "$bin/iaa" mesh "${sphere[@]}" --method dc -o "$tmp/e1.ply"
+expect_error "unsupported mesh format" "$tmp/e2.stl" "$bin/iaa" mesh "${sphere[@]}" -o "$tmp/e2.stl"
+expect_error "no surface" "$tmp/e3.ply" "$bin/iaa" mesh --bounds -1:1,-1:1,-1:1 \
+  --expr '(x^2 + y^2 + z^2 - 0.5)^2' -o "$tmp/e3.ply" --resolution 16
+expect_error "give either a SCENE or --expr" "$tmp/e3.ply" "$bin/iaa" mesh "$2/data/scenes/teardrop.toml" \
+  --expr x -o "$tmp/e3.ply"
+expect_error "--bounds" "$tmp/e4.ply" "$bin/iaa" mesh --expr 'x' --bounds 1:0,0:1,0:1 -o "$tmp/e4.ply"
+expect_error "depth + refine" "$tmp/e5.ply" "$bin/iaa" mesh "${sphere[@]}" --depth 16 --refine 8 -o "$tmp/e5.ply"
+expect_error "facet-size" "$tmp/e6.ply" "$bin/iaa" mesh "${sphere[@]}" --method cgal --facet-size -1 -o "$tmp/e6.ply"
+expect_error "grid" "$tmp/e7.ply" "$bin/iaa" mesh "${sphere[@]}" --method vtk --grid 1 -o "$tmp/e7.ply"
+echo "mesh_cli: ok"
