@@ -75,7 +75,7 @@ void run(const MeshOptions& o) {
   bar.finish();
 
   std::printf("surface      %s\n", surface.expression.c_str());
-  std::printf("method       %s  %s\n", meshing::method_label(method), run.details.dump().c_str());
+  std::printf("method       %s\n", run.summary.c_str());
   std::printf("time         %.3f s\n", run.seconds);
   std::printf(
       "mesh         %llu vertices, %llu triangles, %llu components, Euler characteristic %lld\n",

@@ -152,6 +152,7 @@ struct MeshRun {
   TriangleSoup soup;
   double seconds = 0;
   nlohmann::json details;
+  std::string summary;                 ///< one line: the method and its main settings
   std::optional<Enclosure> enclosure;  ///< the octree's own enclosure
 };
 
@@ -186,6 +187,12 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
                    {"seconds_signs", st.seconds_signs},
                    {"seconds_extract", st.seconds_extract},
                    {"seconds_vertices", st.seconds_vertices}};
+    run.summary = "octree, depth " + std::to_string(os.enclose.depth) +
+                  " (possible leaves refined to depth " +
+                  std::to_string(os.enclose.depth + os.enclose.refine_possible) +
+                  "): " + std::to_string(st.leaves) + " leaves, " +
+                  std::to_string(st.crossing_leaves) + " crossing, " +
+                  std::to_string(st.possible_leaves) + " possible";
     run.enclosure = std::move(enc);
   } else if (m == Method::kCgal) {
 #ifdef IAA_HAVE_CGAL
@@ -202,6 +209,10 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
                    {"facet_angle", cs.facet_angle},
                    {"facets", st.facets},
                    {"bound_facets_removed", st.bound_facets}};
+    char b[160];
+    std::snprintf(b, sizeof b, "cgal Mesh_3, facet size %.4g, distance %.4g, angle %.4g",
+                  cs.facet_size, cs.facet_distance, cs.facet_angle);
+    run.summary = b;
 #endif
   } else {
 #ifdef IAA_HAVE_VIZ
@@ -211,6 +222,7 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
     run.soup = viz::mesh_vtk(*s.tape, vs, exec);
     run.seconds = seconds_since(t0);
     run.details = {{"grid", vs.grid}};
+    run.summary = "vtk flying edges, grid " + std::to_string(vs.grid) + "^3";
 #endif
   }
   return run;
