@@ -231,7 +231,6 @@ void run(const EncloseOptions& o) {
     throw SettingError(m);
   }
   const double t_enclose = seconds_since(t0);
-  bar.finish();
 
   double t_write = 0;
 #ifdef IAA_HAVE_VIZ
