@@ -214,8 +214,22 @@ class Extractor {
       }
     }
     std::size_t& c = cached_[std::size_t(3 * k + t)];
-    if (c == kNone) c = g_.find(t, p);
-    return c;
+    if (c != kNone) return c;
+    // The other end of the leaf's edge along t is usually the next point on the line (or a few
+    // hanging points away): scan from it instead of searching the whole array.
+    const std::size_t other = cached_[std::size_t(3 * (k ^ (1 << t)) + t)];
+    if (other != kNone) {
+      const U64 key = line_key(t, p);
+      const auto& line = g_.lines[std::size_t(t)];
+      const bool up = (k >> t) & 1;
+      std::size_t j = other;
+      for (int step = 0; step < 64; ++step) {
+        if (up ? j + 1 >= line.size() : j == 0) break;
+        j = up ? j + 1 : j - 1;
+        if ((line[j] >> 1) == key) return c = j;
+      }
+    }
+    return c = g_.find(t, p);
   }
 
   // Walks one side of a polygon from corner A to corner B (they differ along axis t).
@@ -408,12 +422,18 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     tbb::parallel_sort(in.begin(), in.end());
     in.erase(std::unique(in.begin(), in.end()), in.end());
 
-    // Grid points: the corners of every leaf and of every child of an internal node (empty
-    // children included: their faces are polygons of the neighbouring leaves' boundaries), sorted
-    // and unique (z-lines order = axis 2 keys).
-    std::vector<U64> keys(8 * n_leaves + 27 * in.size());
-    tbb::parallel_for(std::size_t{0}, in.size(), [&](std::size_t i) {
-      U64 code = in[i];
+    // Grid points: the corners of every leaf, and of every child of an internal node at least as
+    // deep as the shallowest leaf (empty children included: a leaf's face is cut into the faces
+    // of the children of the same-depth node across it), sorted and unique (z-lines order = axis
+    // 2 keys). Codes grow with depth, so those internal nodes are a suffix of `in`.
+    int min_depth = level;
+    for (const Cell& c : enc.cells) min_depth = std::min(min_depth, int(c.depth));
+    const std::size_t first = static_cast<std::size_t>(
+        std::lower_bound(in.begin(), in.end(), U64{1} << (3 * min_depth)) - in.begin());
+    const std::size_t n_split = in.size() - first;
+    std::vector<U64> keys(8 * n_leaves + 27 * n_split);
+    tbb::parallel_for(std::size_t{0}, n_split, [&](std::size_t i) {
+      U64 code = in[first + i];
       int d = 0;
       while ((code >> (3 * (d + 1))) != 0) ++d;
       IPoint idx{0, 0, 0};
@@ -530,7 +550,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     }
   }
   st.meshed_leaves = n_leaves - st.unmeshed_possible - st.unmeshed_crossing;
-  std::sort(edges.begin(), edges.end());
+  exec.run([&] { tbb::parallel_sort(edges.begin(), edges.end()); });
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   const std::size_t n_edge_vertices = edges.size();
   const std::size_t n_vertices = n_edge_vertices + centre_base[n_blocks];
