@@ -67,8 +67,8 @@ std::vector<Rgb> diff_picture(const Film& film, const Comparison& c) {
   std::vector<Rgb> out(c.pixel.size());
   for (std::size_t i = 0; i < c.pixel.size(); ++i) {
     const Rgb base = i < film.color.size() ? film.color[i] : Rgb{1, 1, 1};
-    // Faded: a third of the render over white, so the marks stand out.
-    Rgb p{0.33f * base.r + 0.67f, 0.33f * base.g + 0.67f, 0.33f * base.b + 0.67f};
+    // Faded: the render at 55% over white, so that the marks stand out.
+    Rgb p{0.55f * base.r + 0.45f, 0.55f * base.g + 0.45f, 0.55f * base.b + 0.45f};
     switch (c.pixel[i]) {
       case PixelAgreement::kLost:
         p = {0.9f, 0.05f, 0.05f};

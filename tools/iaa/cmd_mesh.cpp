@@ -19,6 +19,7 @@ struct MeshOptions {
   std::string expr;
   std::string bounds;
   std::vector<std::string> params;
+  std::vector<std::string> sets;
   std::string method = "octree";
   std::string output;
   bool binary = false;
@@ -40,7 +41,8 @@ void run(const MeshOptions& o) {
   if (!o.report.empty() && tools::extension_of(o.report) != "json") {
     throw Error("--report: the report must be a .json file, got '" + o.report + "'");
   }
-  const meshing::Surface surface = meshing::load_surface(o.scene, o.expr, o.bounds, o.params);
+  const meshing::Surface surface =
+      meshing::load_surface(o.scene, o.expr, o.bounds, o.params, o.sets);
   o.p.validate();
 
   tools::ProgressBar bar(o.quiet);
@@ -118,6 +120,8 @@ void setup(CLI::App& app) {
   app.add_option("--expr", o->expr, "the surface f(x,y,z) = 0");
   app.add_option("--bounds", o->bounds, "X0:X1,Y0:Y1,Z0:Z1, required with --expr");
   app.add_option("-p,--param", o->params, "a named parameter NAME=VALUE (repeatable)");
+  app.add_option("--set", o->sets,
+                 "override a scene key, e.g. 'surface.min=[-1,-1,-1]' (repeatable)");
   app.add_option("--method", o->method, "octree (ours, from the guaranteed enclosure), cgal or vtk")
       ->capture_default_str();
   app.add_option("-o,--output", o->output, "mesh file: .ply, .obj or .off")->required();

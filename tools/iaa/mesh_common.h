@@ -37,8 +37,10 @@ struct Surface {
   std::optional<Scene> scene;
 };
 
-inline Scene load_scene(const std::string& path) {
-  return parse_scene(tools::read_file(path), path);
+inline Scene load_scene(const std::string& path, const std::vector<std::string>& sets = {}) {
+  std::vector<SceneOverride> overrides;
+  for (const std::string& s : sets) overrides.push_back(parse_override(s));
+  return parse_scene(tools::read_file(path), path, overrides);
 }
 
 inline Params parse_params(const std::vector<std::string>& items) {
@@ -55,11 +57,12 @@ inline Params parse_params(const std::vector<std::string>& items) {
 
 /// A scene path, or --expr with --bounds (and --param); exactly one of the two.
 inline Surface load_surface(const std::string& scene_path, const std::string& expr,
-                            const std::string& bounds, const std::vector<std::string>& params) {
+                            const std::string& bounds, const std::vector<std::string>& params,
+                            const std::vector<std::string>& sets = {}) {
   Surface s;
   if (!scene_path.empty()) {
     if (!expr.empty()) throw Error("give either a SCENE or --expr, not both");
-    Scene scene = load_scene(scene_path);
+    Scene scene = load_scene(scene_path, sets);
     s.name = scene.name;
     s.expression = scene.expression;
     s.tape = scene.tape;
@@ -67,6 +70,7 @@ inline Surface load_surface(const std::string& scene_path, const std::string& ex
     s.scene = std::move(scene);
     return s;
   }
+  if (!sets.empty()) throw Error("--set changes a scene file; it needs a SCENE");
   if (expr.empty())
     throw Error("no surface: give a SCENE file or --expr EXPR --bounds X0:X1,Y0:Y1,Z0:Z1");
   if (bounds.empty()) throw Error("--bounds X0:X1,Y0:Y1,Z0:Z1 is required with --expr");
