@@ -17,6 +17,7 @@
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
 #include <vtkPoints.h>
+#include <vtkSignedCharArray.h>
 #include <vtkStringArray.h>
 #include <vtkTypeUInt32Array.h>
 #include <vtkTypeUInt64Array.h>
@@ -170,7 +171,8 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   auto offsets = make_array<vtkIdTypeArray>("offsets", 1, nc + 1);
   auto types = make_array<vtkUnsignedCharArray>("types", 1, nc);
   auto depth = make_array<vtkUnsignedCharArray>("depth", 1, nc);
-  auto cls = make_array<vtkUnsignedCharArray>("class", 1, nc);
+  // Int8, not UInt8: VTK mappers draw unsigned char scalars as colours instead of mapping them.
+  auto cls = make_array<vtkSignedCharArray>("class", 1, nc);
   auto flo = make_array<vtkDoubleArray>("f_lo", 1, nc);
   auto fhi = make_array<vtkDoubleArray>("f_hi", 1, nc);
   auto index = make_array<vtkTypeUInt32Array>("index", 3, nc);
@@ -180,7 +182,7 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   vtkIdType* of = offsets->GetPointer(0);
   unsigned char* ty = types->GetPointer(0);
   unsigned char* de = depth->GetPointer(0);
-  unsigned char* cl = cls->GetPointer(0);
+  signed char* cl = cls->GetPointer(0);
   double* lo = flo->GetPointer(0);
   double* hi = fhi->GetPointer(0);
   std::uint32_t* ix = index->GetPointer(0);
@@ -207,7 +209,7 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
         of[i] = static_cast<vtkIdType>(8 * i);
         ty[i] = VTK_VOXEL;
         de[i] = c.depth;
-        cl[i] = static_cast<unsigned char>(c.cls);
+        cl[i] = static_cast<signed char>(c.cls);
         lo[i] = c.f.lo();
         hi[i] = c.f.hi();
         for (int a = 0; a < 3; ++a) ix[3 * i + a] = c.index[a];
@@ -316,7 +318,7 @@ EnclosureFile read_enclosure_vtu(const std::string& path) {
 
   const vtkIdType nc = g->GetNumberOfCells();
   auto* depth = vtkUnsignedCharArray::SafeDownCast(cell_array(g, "depth", 1, nc, path));
-  auto* cls = vtkUnsignedCharArray::SafeDownCast(cell_array(g, "class", 1, nc, path));
+  auto* cls = vtkSignedCharArray::SafeDownCast(cell_array(g, "class", 1, nc, path));
   auto* flo = vtkDoubleArray::SafeDownCast(cell_array(g, "f_lo", 1, nc, path));
   auto* fhi = vtkDoubleArray::SafeDownCast(cell_array(g, "f_hi", 1, nc, path));
   // The reader makes the platform's array classes (vtkUnsignedIntArray for UInt32).
@@ -331,7 +333,7 @@ EnclosureFile read_enclosure_vtu(const std::string& path) {
   for (vtkIdType i = 0; i < nc; ++i) {
     Cell& c = enc.cells[static_cast<std::size_t>(i)];
     c.depth = depth->GetValue(i);
-    const unsigned char k = cls->GetValue(i);
+    const signed char k = cls->GetValue(i);
     if (c.depth < 1 || c.depth > max_depth || (k != 1 && k != 2)) {
       throw Error("'" + path + "': cell " + std::to_string(i) + " has an invalid depth or class");
     }

@@ -4,7 +4,7 @@
 // File layout (what ParaView or any VTK reader sees):
 // - points: double precision, 8 per voxel in VTK_VOXEL order; they are exactly the boxes that f
 //   was evaluated on (Enclosure::box), so the file itself is a certified enclosure;
-// - cell arrays: `depth` (UInt8), `class` (UInt8: 1 crossing, 2 possible), `f_lo`, `f_hi`
+// - cell arrays: `depth` (UInt8), `class` (Int8: 1 crossing, 2 possible), `f_lo`, `f_hi`
 //   (Float64: the interval value of f over the voxel) and `index` (UInt32, 3 components: the
 //   cell's integer position at its depth, for exact reconstruction);
 // - field data: `expression` (string), `bounds` (6 doubles: x0 x1 y0 y1 z0 z1), `depth`,
