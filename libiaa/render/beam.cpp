@@ -20,14 +20,29 @@ constexpr int kMarchSteps = 4;
 /// Bisection steps that tighten t_far once a candidate succeeded.
 constexpr int kFarRefine = 3;
 
+/// Mean-value form of F over a box: F(c) + sum_i dF/dx_i(box) (box_i - c_i), c the centre.
+/// Valid where f is Lipschitz on the box (the interval gradient contains the generalized
+/// gradients at kinks); the whole line when the gradient meets a partial domain.
+Interval mean_value_form(RenderContext& ctx, const IBox& box) {
+  bool gpartial = false;
+  const IGrad g = ctx.eval_grad(box, &gpartial);
+  if (gpartial) return Interval::whole();
+  IBox c;
+  for (int i = 0; i < 3; ++i) c[i] = Interval(box[i].mid());
+  Interval f = ctx.eval(c);
+  for (int i = 0; i < 3; ++i) f += g.g[static_cast<std::size_t>(i)] * (box[i] - c[i]);
+  return intersect(f, g.v);
+}
+
 /// Sign of F on the (unclipped) slice of the beam at depth t: +1 / -1 when proved with intervals
 /// on a slice inside the bounds without partial domain, else 0.
 int slice_sign(RenderContext& ctx, const IBox& dirs, double t) {
   const IBox slice = segment_box(ctx.setup.frame.eye, dirs, Interval(t));
   if (!box_inside(slice, ctx.bounds())) return kOutside;
   bool partial = false;
-  const Interval f = ctx.eval(slice, &partial);
+  Interval f = ctx.eval(slice, &partial);
   if (partial) return 0;
+  if (f.contains_zero()) f = mean_value_form(ctx, slice);
   return f.certainly_positive() ? 1 : (f.certainly_negative() ? -1 : 0);
 }
 
@@ -77,6 +92,13 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     const double m = 0.5 * (a + b);
     if (b - a <= std::max(abs_floor, tol_factor * lateral * b) || m <= a || m >= b ||
         !st.has_room(2)) {
+      // Before keeping a piece, try the sharper mean-value form: a small box near (but off)
+      // the surface often has 0 in its natural enclosure only through overestimation.
+      if (!partial) {
+        const Interval fm = mean_value_form(ctx, box);
+        if (trace) trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false});
+        if (!fm.contains_zero()) continue;
+      }
       found = true;
       kept_partial = partial;
       out.hit_box = box;
@@ -100,7 +122,16 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   // Full coverage: opposite proved signs on the slices at t_near and at some t_far >= t_near,
   // with the box of [t_near, t_far] inside the bounds and f continuous on it.
   const char* reason = "";
-  const int s_near = slice_sign(ctx, out.dirs, a);
+  // The near slice may be at t_near or a little before it: no ray meets the surface in the
+  // excluded pieces in front of t_near, so a sign proved at t_s <= t_near still brackets the first
+  // hit of every ray in [t_near, t_far]. Close to the surface intervals cannot tell the sign.
+  int s_near = 0;
+  double t_s = a;
+  for (int k = 0; k < 4; ++k) {
+    t_s = k == 0 ? a : std::max(range.lo(), a - std::ldexp(b - a, k - 1));
+    s_near = slice_sign(ctx, out.dirs, t_s);
+    if (s_near == 1 || s_near == -1 || t_s <= range.lo()) break;
+  }
   if (s_near != 1 && s_near != -1) {
     reason = "no proved sign on the slice at t_near";
   } else {
@@ -130,7 +161,7 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
         break;
       }
       if (s_far == -s_near) {
-        const IBox seg = segment_box(eye, out.dirs, Interval(a, tf));
+        const IBox seg = segment_box(eye, out.dirs, Interval(t_s, tf));
         if (!box_inside(seg, ctx.bounds())) {
           reason = "corner rays leave the bounds before t_far";
           break;

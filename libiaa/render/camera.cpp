@@ -64,12 +64,14 @@ Interval depth_range(const CameraFrame& f, const Box3& b) {
   // dot(d, forward) = ff + a fr + b fu with a, b the image-plane offsets; written this way the
   // interval result stays tight (the three dot products are evaluated as intervals).
   const auto idot = [](const Vec3& p, const Vec3& q) {
-    return Interval(p.x) * Interval(q.x) + Interval(p.y) * Interval(q.y) + Interval(p.z) * Interval(q.z);
+    return Interval(p.x) * Interval(q.x) + Interval(p.y) * Interval(q.y) +
+           Interval(p.z) * Interval(q.z);
   };
   const Interval s(f.scale);
   const Interval ia = (Interval(0.0, 2 * f.half_w) - Interval(f.half_w)) * s;
   const Interval ib = (Interval(f.half_h) - Interval(0.0, 2 * f.half_h)) * s;
-  const Interval k = idot(f.forward, f.forward) + ia * idot(f.right, f.forward) + ib * idot(f.up, f.forward);
+  const Interval k =
+      idot(f.forward, f.forward) + ia * idot(f.right, f.forward) + ib * idot(f.up, f.forward);
   IAA_CHECK(k.lo() > 0.0);
   if (depth.hi() <= 0.0) return Interval::empty();
   const double lo = depth.lo() <= 0.0 ? 0.0 : (Interval(depth.lo()) / Interval(k.hi())).lo();

@@ -22,6 +22,28 @@ int sign_at(RenderContext& ctx, const Vec3& o, const IBox& dir, double t) {
   return f.certainly_positive() ? 1 : (f.certainly_negative() ? -1 : 0);
 }
 
+/// Tries to prove a root in or around out->t: a strict sign change between two depths, on a
+/// segment inside the bounds where f is continuous. When the ends of the piece are too close to
+/// the root for intervals to tell the sign, the bracket is widened a little (staying in range).
+void certify(RenderContext& ctx, const Vec3& o, const IBox& dir, const Interval& range, double tol,
+             RayHit* out) {
+  for (double grow : {0.0, 1.0, 16.0, 256.0}) {
+    const double a = std::max(range.lo(), out->t.lo() - grow * tol);
+    const double b = std::min(range.hi(), out->t.hi() + grow * tol);
+    const IBox seg = segment_box(o, dir, Interval(a, b));
+    if (!box_inside(seg, ctx.bounds())) return;
+    const int sa = sign_at(ctx, o, dir, a), sb = sign_at(ctx, o, dir, b);
+    if (sa == 0 || sb == 0) continue;
+    if (sa == sb) return;
+    bool partial = false;
+    if (ctx.setup.may_partial) ctx.eval(seg, &partial);
+    if (partial) return;
+    out->certified = true;
+    out->t = Interval(a, b);
+    return;
+  }
+}
+
 }  // namespace
 
 RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol,
@@ -34,7 +56,8 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
   const double newton_width = std::max(tol, newton_from);
   double a = 0, b = 0;
   while (st.pop(&a, &b)) {
-    const IBox box = clip_box(segment_box(o, dir, Interval(a, b)), ctx.bounds());
+    const IBox seg = segment_box(o, dir, Interval(a, b));
+    const IBox box = clip_box(seg, ctx.bounds());
     if (box.is_empty()) continue;
     bool partial = false;
     const Interval f = ctx.eval(box, &partial);
@@ -44,13 +67,12 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
       out.hit = true;
       out.t = Interval(a, b);
       // Certify by a strict sign change at the ends of a piece where f is continuous.
-      if (!partial) {
-        const int sa = sign_at(ctx, o, dir, a), sb = sign_at(ctx, o, dir, b);
-        out.certified = sa != 0 && sb != 0 && sa != sb;
-      }
+      certify(ctx, o, dir, range, tol, &out);
       return out;
     }
-    if (b - a <= newton_width && !partial) {
+    // Newton only where the whole piece lies inside the bounds: its mean-value argument needs F'
+    // over the whole segment, and a root it proves must be one of the scene (inside the bounds).
+    if (b - a <= newton_width && !partial && box_inside(seg, ctx.bounds())) {
       // Interval Newton on g(t) = f(o + t dir): every root t* of [a, b] lies in
       // m - G(m) / G'([a, b]) when G' excludes 0 (mean value theorem).
       bool gpartial = false;

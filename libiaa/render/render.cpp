@@ -212,9 +212,10 @@ class Renderer {
     // few beam widths behind t_near (a hit further back would be hidden by whatever the beam
     // touches first); beyond that the hit box's normal is used. This only chooses the shading
     // point: the certificate and the coverage do not depend on it.
-    const double reach = kPartialShadeReach * su_.frame.scale * std::max(rect.width(), rect.height()) * s.t_near;
-    const Interval sr(s.t_near, s.result == BeamResult::kFull ? s.t_far
-                                                              : std::min(range.hi(), s.t_near + reach));
+    const double reach =
+        kPartialShadeReach * su_.frame.scale * std::max(rect.width(), rect.height()) * s.t_near;
+    const Interval sr(
+        s.t_near, s.result == BeamResult::kFull ? s.t_far : std::min(range.hi(), s.t_near + reach));
     const RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, su_.ray_tol,
                                 su_.frame.scale * sr.hi() * 4);
     Vec3 p, g;

@@ -1,0 +1,117 @@
+// Scene files: every key read, unknown keys and bad values are errors that name the key.
+#include "io/scene.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/error.h"
+#include "render/render_test_util.h"
+
+namespace iaa {
+namespace {
+
+std::string error_of(const std::string& text, std::vector<SceneOverride> ov = {}) {
+  try {
+    parse_scene(text, "s.toml", ov);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kMinimal =
+    "[surface]\nexpression = \"x^2+y^2+z^2-1\"\nmin = [-2,-2,-2]\nmax = [2,2,2]\n";
+
+TEST(Scene, ParsesEveryTable) {
+  const std::string text =
+      std::string("name = \"ball\"\n") + kMinimal +
+      "params = {}\n[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov = 30\n"
+      "[image]\nwidth = 20\nheight = 10\nbackground = [0, 0, 0]\n"
+      "[material]\ncolor = [1, 0, 0]\nambient = 0.1\ndiffuse = 0.5\nspecular = 0.2\nshininess = "
+      "10\n"
+      "[[light]]\nposition = [1, 2, 3]\n[[light]]\nposition = [3, 2, 1]\ncolor = [0.5, 0.5, 0.5]\n"
+      "[render]\nmethod = \"grid 4\"\nmax_level = 3\nestimator_threshold = 0.5\n"
+      "depth_tolerance = 2\nadaptive_threshold = 0.2\nshadows = true\n";
+  const Scene s = parse_scene(text, "x.toml");
+  EXPECT_EQ(s.name, "ball");
+  EXPECT_EQ(s.width, 20);
+  EXPECT_EQ(s.height, 10);
+  EXPECT_EQ(s.camera.fov_deg, 30);
+  EXPECT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.settings.method, RenderMethod::kGrid);
+  EXPECT_EQ(s.settings.grid_n, 4);
+  EXPECT_EQ(s.settings.max_level, 3);
+  EXPECT_TRUE(s.settings.shadows);
+  ASSERT_TRUE(s.tape);
+}
+
+TEST(Scene, NameDefaultsToFileName) {
+  EXPECT_EQ(parse_scene(kMinimal, "dir/teardrop.toml").name, "teardrop");
+}
+
+TEST(Scene, UnknownKeysAreNamed) {
+  EXPECT_NE(error_of(std::string(kMinimal) + "colour = 1\n").find("unknown key 'surface.colour'"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kMinimal) + "[camera]\nfovy = 3\n").find("'camera.fovy'"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string("bogus = 1\n") + kMinimal).find("'bogus'"), std::string::npos);
+}
+
+TEST(Scene, BadValuesAreNamed) {
+  EXPECT_NE(error_of(std::string(kMinimal) + "[image]\nwidth = 0\n").find("image.width"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kMinimal) + "[image]\nwidth = 100000\n").find("image.width"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kMinimal) + "[camera]\neye = [0, 0]\n").find("camera.eye"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of(std::string(kMinimal) + "[render]\nmethod = \"magic\"\n").find("render.method"),
+      std::string::npos);
+  EXPECT_NE(error_of("[surface]\nexpression = \"x^2 +\"\nmin = [0,0,0]\nmax = [1,1,1]\n")
+                .find("surface.expression"),
+            std::string::npos);
+  EXPECT_NE(error_of("[surface]\nexpression = \"x\"\n").find("surface.min"), std::string::npos);
+  EXPECT_NE(error_of("name = \"x\"\n").find("[surface]"), std::string::npos);
+  EXPECT_NE(error_of("[surface\n").find("s.toml"), std::string::npos);
+}
+
+TEST(Scene, DegenerateCamerasAreErrors) {
+  EXPECT_NE(error_of(std::string(kMinimal) + "[camera]\neye = [1, 1, 1]\nlook_at = [1, 1, 1]\n")
+                .find("same point"),
+            std::string::npos);
+  EXPECT_NE(error_of(std::string(kMinimal) +
+                     "[camera]\neye = [0, 0, 5]\nlook_at = [0, 0, 0]\nup = [0, 0, 2]\n")
+                .find("parallel"),
+            std::string::npos);
+}
+
+TEST(Scene, ExpressionUndefinedEverywhereIsAnError) {
+  EXPECT_NE(
+      error_of("[surface]\nexpression = \"sqrt(-1 - x^2)\"\nmin = [-1,-1,-1]\nmax = [1,1,1]\n")
+          .find("undefined"),
+      std::string::npos);
+}
+
+TEST(Scene, OverridesAreAppliedAndChecked) {
+  const Scene s =
+      parse_scene(kMinimal, "s.toml",
+                  {{"image.width", "33"}, {"render.method", "point"}, {"camera.fov", "25"}});
+  EXPECT_EQ(s.width, 33);
+  EXPECT_EQ(s.settings.method, RenderMethod::kPoint);
+  EXPECT_EQ(s.camera.fov_deg, 25);
+  EXPECT_NE(error_of(kMinimal, {{"image.widht", "3"}}).find("image.widht"), std::string::npos);
+  EXPECT_THROW(parse_override("novalue"), Error);
+}
+
+TEST(Scene, EveryBundledSceneParses) {
+  for (const char* n :
+       {"teardrop", "chubs", "tritrumpet", "twist", "blobby", "barth_sextic", "kummer_quartic",
+        "clebsch_cubic", "cayley_cubic", "klein_bottle", "steiner_roman", "ding_dong", "heart",
+        "mitchell", "tangle_cube", "gyroid"}) {
+    EXPECT_NO_THROW(test::bundled(n, 10)) << n;
+  }
+}
+
+}  // namespace
+}  // namespace iaa
