@@ -20,6 +20,9 @@
 namespace iaa::cli {
 namespace {
 
+/// Marks an integer option that was not given.
+constexpr int kUnset = -2147483647;
+
 struct RenderOptions {
   std::string scene;
   std::vector<std::string> sets;
@@ -27,7 +30,7 @@ struct RenderOptions {
   std::string method;
   int max_level = -1;
   double threshold = -1, depth_tol = -1, adaptive_threshold = -1;
-  int width = 0, height = 0;
+  int width = kUnset, height = kUnset;
   std::string window;
   int threads = 0;
   bool no_shadows = false, shadows = false;
@@ -136,9 +139,8 @@ nlohmann::json report_json(const Scene& scene, const Film& f, int threads) {
 
 void run(const RenderOptions& o) {
   std::vector<std::string> sets = o.sets;
-  if (o.width > 0) sets.push_back("image.width=" + std::to_string(o.width));
-  if (o.height > 0) sets.push_back("image.height=" + std::to_string(o.height));
-  if (o.width < 0 || o.height < 0) throw Error("--width/--height must be positive");
+  if (o.width != kUnset) sets.push_back("image.width=" + std::to_string(o.width));
+  if (o.height != kUnset) sets.push_back("image.height=" + std::to_string(o.height));
   const Scene scene = load_scene(o.scene, sets);
   RenderSettings st = scene.settings;
   if (!o.method.empty()) st.method = parse_method(o.method, &st.grid_n);
