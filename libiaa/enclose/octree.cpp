@@ -48,9 +48,11 @@ struct Expansion {
   }
 };
 
-/// The split level is the first level with at least this many candidate cells, and at least
-/// depth - kMaxSubtreeDepth so that each subtree (and its corner cache) stays small.
+/// The split level is the first level with at least kMinSubtrees candidate cells, and at least
+/// depth - kMaxSubtreeDepth so that each subtree (and its corner cache) stays small, unless the
+/// breadth-first pass (sequential, and not bounded by max_boxes) already holds kMaxSubtrees.
 constexpr std::size_t kMinSubtrees = 512;
+constexpr std::size_t kMaxSubtrees = std::size_t{1} << 15;
 constexpr int kMaxSubtreeDepth = 5;
 
 /// Open-addressing map from a cell corner (integer coordinates on the grid of the deepest cells)
@@ -117,8 +119,10 @@ struct Shared {
   int max_depth;  ///< depth + refine_possible
   std::uint64_t max_boxes;
   bool centered_form;
+  const Progress* progress = nullptr;
   std::atomic<std::uint64_t> leaves{0};
   std::atomic<bool> over_limit{false};
+  std::atomic<bool> cancelled{false};
 };
 
 /// Depth-first enclosure of one subtree; owns its evaluators, point cache and output.
@@ -131,7 +135,14 @@ class SubtreeWorker {
   /// corner of this cell and its gradient encloses the gradient over this cell, so it bounds f here
   /// with no evaluation at all, about as tightly as this cell's own expansion would.
   void visit(const Index& idx, int d, const Expansion* parent) {
-    if (sh_.over_limit.load(std::memory_order_relaxed)) return;
+    if (sh_.over_limit.load(std::memory_order_relaxed) ||
+        sh_.cancelled.load(std::memory_order_relaxed)) {
+      return;
+    }
+    if (++visits_ % 4096 == 0 && sh_.progress && sh_.progress->cancelled()) {
+      sh_.cancelled.store(true, std::memory_order_relaxed);
+      return;
+    }
     const IBox box = cell_ibox(idx, d);
     Interval f = Interval::whole();
     bool partial = true;
@@ -282,6 +293,7 @@ class SubtreeWorker {
   std::uint64_t evaluations_ = 0;
   std::uint64_t corner_evaluations_ = 0;
   std::uint64_t pending_ = 0;
+  std::uint64_t visits_ = 0;
 };
 
 /// Morton order of two indices of one depth, bits interleaved z y x from the most significant
@@ -368,6 +380,7 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   sh.max_depth = settings.depth + settings.refine_possible;
   sh.max_boxes = settings.max_boxes;
   sh.centered_form = settings.centered_form;
+  sh.progress = exec.progress;
 
   Enclosure out;
   out.bounds = settings.bounds;
@@ -380,7 +393,8 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
     RoundingScope scope;
     IntervalEval ie(tape);
     while (level < sh.depth && !frontier.empty() &&
-           (frontier.size() < kMinSubtrees || level < sh.depth - kMaxSubtreeDepth)) {
+           (frontier.size() < kMinSubtrees ||
+            (level < sh.depth - kMaxSubtreeDepth && frontier.size() < kMaxSubtrees))) {
       std::vector<Index> next;
       for (const Index& idx : frontier) {
         IBox b;
@@ -404,15 +418,14 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   const std::size_t n = frontier.size();
   std::vector<std::vector<Cell>> parts(n);
   std::vector<std::uint64_t> evals(n, 0), corner_evals(n, 0);
-  std::atomic<bool> cancelled{false};
   {
     ProgressPhase phase(exec.progress, "enclose", n);
     exec.run([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const auto& r) {
         RoundingScope scope;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
-          if (phase.cancelled()) cancelled.store(true, std::memory_order_relaxed);
-          if (cancelled.load(std::memory_order_relaxed) ||
+          if (phase.cancelled()) sh.cancelled.store(true, std::memory_order_relaxed);
+          if (sh.cancelled.load(std::memory_order_relaxed) ||
               sh.over_limit.load(std::memory_order_relaxed)) {
             return;
           }
@@ -427,7 +440,7 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
       });
     });
   }
-  if (cancelled.load()) throw Error("enclose: cancelled");
+  if (sh.cancelled.load()) throw Error("enclose: cancelled");
   if (sh.over_limit.load()) {
     throw SettingError("max_boxes: the enclosure needs more than " +
                        std::to_string(settings.max_boxes) + " boxes at depth " +

@@ -78,6 +78,11 @@ TEST(Enclose, MaxBoxesExceededIsAClearError) {
   }
   s.max_boxes = 1'000'000;
   EXPECT_GT(enclose(tape, s).cells.size(), 100u);
+  // The deepest settings stop as soon as the limit is passed (the breadth-first start is bounded).
+  s.depth = EncloseSettings::kMaxDepth;
+  s.refine_possible = EncloseSettings::kMaxRefine;
+  s.max_boxes = 10'000;
+  EXPECT_THROW(enclose(tape, s), SettingError);
 }
 
 TEST(Enclose, NoZeroInTheBoxGivesAValidEmptyResult) {
