@@ -335,6 +335,10 @@ void EncloseSettings::validate() const {
     if (!std::isfinite(lo) || !std::isfinite(hi)) {
       throw SettingError(std::string("bounds: the ") + kAxis[a] + " range must be finite");
     }
+    if (!std::isfinite(hi - lo)) {
+      throw SettingError(std::string("bounds: the ") + kAxis[a] +
+                         " range is too wide (its width overflows a double)");
+    }
     if (!(lo < hi)) {
       throw SettingError(std::string("bounds: the ") + kAxis[a] + " range [" + std::to_string(lo) +
                          ", " + std::to_string(hi) + "] is " + (lo == hi ? "empty" : "inverted") +
