@@ -6,6 +6,9 @@
 // - kCrossing: f has corner values of both strict signs and is continuous on the cell (no partial
 //   domain), so the surface certainly passes through it;
 // - kPossible: 0 is in F(cell) but no sign change was seen: it may or may not hold surface.
+// F is the intersection of the natural interval value and the mean-value form (see
+// EncloseSettings::centered_form); corner signs are proved by interval evaluations on the
+// degenerate boxes of the corners.
 // Possible leaves may be refined a few levels deeper (refine_possible) so that thin features are
 // either certified or excluded.
 #pragma once
@@ -30,8 +33,8 @@ struct Cell {
   std::array<std::uint32_t, 3> index;
   std::uint8_t depth;
   CellClass cls;
-  /// An enclosure of f over the cell: the natural interval value, intersected with the mean-value
-  /// form where that was computed (possible leaves).
+  /// An enclosure of f over the cell: the natural interval value and/or a mean-value form (the
+  /// parent's expansion, for crossing leaves; their intersection with the cell's own otherwise).
   Interval f;
 };
 
