@@ -63,6 +63,12 @@ class CornerCache {
  public:
   CornerCache() : slots_(1024) {}
 
+  /// The sign of corner (x, y, z) if it is there, else null.
+  const std::int8_t* find(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    const Slot* s = probe(x, y, z);
+    return s->x == kEmpty ? nullptr : &s->sign;
+  }
+
   /// Returns the sign slot of corner (x, y, z); `*found` tells whether it was already there.
   std::int8_t* find_or_insert(std::uint32_t x, std::uint32_t y, std::uint32_t z, bool* found) {
     if (2 * (used_ + 1) > slots_.size()) grow();
@@ -272,17 +278,32 @@ class SubtreeWorker {
   }
 
   /// True when two corners of the cell have proved values of opposite strict signs.
+  /// The corners already in the cache are looked at first, so that a sign change among them
+  /// costs no evaluation.
   bool corners_have_both_signs(const Index& idx, int d) {
     const int shift = sh_.max_depth - d;
     bool pos = false, neg = false;
+    std::uint32_t missing[8];
+    int n_missing = 0;
     for (std::uint32_t c = 0; c < 8; ++c) {
+      const std::int8_t* sign =
+          cache_.find((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
+                      (idx[2] + ((c >> 2) & 1)) << shift);
+      if (!sign) {
+        missing[n_missing++] = c;
+        continue;
+      }
+      pos |= *sign > 0;
+      neg |= *sign < 0;
+    }
+    for (int k = 0; k < n_missing && !(pos && neg); ++k) {
+      const std::uint32_t c = missing[k];
       const int sign = corner_sign((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
                                    (idx[2] + ((c >> 2) & 1)) << shift);
       pos |= sign > 0;
       neg |= sign < 0;
-      if (pos && neg) return true;
     }
-    return false;
+    return pos && neg;
   }
 
   Shared& sh_;
