@@ -41,7 +41,8 @@ struct EncloseOptions {
   std::string report;
   int threads = 0;
   bool quiet = false;
-  bool depth_given = false;  ///< --depth appeared on the command line
+  bool depth_given = false;      ///< --depth appeared on the command line
+  bool cell_size_given = false;  ///< --cell-size appeared on the command line
 };
 
 /// The shortest text that reads back as exactly v.
@@ -152,7 +153,7 @@ void run(const EncloseOptions& o) {
     throw Error(
         "--param is for --expr; change a scene's parameters with --set surface.params.NAME=VALUE");
   }
-  if (o.depth_given && o.cell_size != 0)
+  if (o.depth_given && o.cell_size_given)
     throw Error("give either --depth or --cell-size, not both");
   if (o.scene.empty() && o.bounds.empty()) {
     throw Error("--bounds X0:X1,Y0:Y1,Z0:Z1 is required with --expr");
@@ -196,7 +197,7 @@ void run(const EncloseOptions& o) {
     tape = std::make_shared<const Tape>(Tape::parse(expression, parse_params(o.params)));
     s.bounds = parse_bounds(o.bounds);
   }
-  s.depth = o.cell_size != 0 ? depth_for_cell_size(s.bounds, o.cell_size) : o.depth;
+  s.depth = o.cell_size_given ? depth_for_cell_size(s.bounds, o.cell_size) : o.depth;
   s.refine_possible = o.refine_possible;
   s.max_boxes = o.max_boxes;
   try {
@@ -318,8 +319,9 @@ void setup(CLI::App& app) {
   CLI::Option* depth = app.add_option("-d,--depth", o->depth,
                                       "leaf depth: cells are the bounds / 2^D per axis (1..21)")
                            ->capture_default_str();
-  app.add_option("--cell-size", o->cell_size,
-                 "choose the depth so that cells are at most this large (instead of --depth)");
+  CLI::Option* cell_size =
+      app.add_option("--cell-size", o->cell_size,
+                     "choose the depth so that cells are at most this large (instead of --depth)");
   app.add_option(
          "--refine-possible", o->refine_possible,
          "refine possible leaves up to K levels deeper (0..8), to certify or exclude thin features")
@@ -343,8 +345,9 @@ void setup(CLI::App& app) {
       "  iaa enclose data/scenes/teardrop.toml --depth 7 --refine-possible 3 -o teardrop.vtu\n"
       "  iaa enclose data/scenes/chubs.toml --cell-size 0.01 --report chubs.json -o chubs.vtu\n"
       "  iaa enclose --expr 'x^2 + y^2 + z^2 - r^2' -p r=0.5 --bounds -1:1,-1:1,-1:1 -d 5");
-  app.callback([o, depth] {
+  app.callback([o, depth, cell_size] {
     o->depth_given = depth->count() > 0;
+    o->cell_size_given = cell_size->count() > 0;
     run(*o);
   });
 }
