@@ -113,6 +113,17 @@ void run(const CompareOptions& o) {
                         {"iaa_covered_area_pixels", film.stats.covered_area},
                         {"seconds_render", t_render},
                         {"seconds_mesh_cast", t_cast}};
+    // Where they are (up to 1000 each), to look at one with `iaa inspect --pixel X,Y`.
+    nlohmann::json lost = nlohmann::json::array(), wrong = nlohmann::json::array();
+    for (int y = 0; y < film.height; ++y) {
+      for (int x = 0; x < film.width; ++x) {
+        const PixelAgreement a = cmp.pixel[film.index(x, y)];
+        if (a == PixelAgreement::kLost && lost.size() < 1000) lost.push_back({x, y});
+        if (a == PixelAgreement::kWrong && wrong.size() < 1000) wrong.push_back({x, y});
+      }
+    }
+    j["lost_at"] = lost;
+    j["wrong_at"] = wrong;
     tools::write_text_atomically(o.report, j.dump(2) + "\n");
     std::printf("report       %s\n", o.report.c_str());
   }
