@@ -17,8 +17,12 @@ constexpr int kOutside = 2;
 constexpr int kFarTries = 10;
 /// Tolerance-sized steps tried from the front before bisecting the rest of a range.
 constexpr int kMarchSteps = 4;
+/// Pieces up to this many depth tolerances wide are also tried with the mean-value form.
+constexpr double kMeanValueWidth = 16.0;
 /// Bisection steps that tighten t_far once a candidate succeeded.
 constexpr int kFarRefine = 3;
+/// Bisection steps that tighten an inherited t_far.
+constexpr int kInheritRefine = 1;
 
 /// Mean-value form of F over a box: F(c) + sum_i dF/dx_i(box) (box_i - c_i), c the centre.
 /// Valid where f is Lipschitz on the box (the interval gradient contains the generalized
@@ -49,7 +53,7 @@ int slice_sign(RenderContext& ctx, const IBox& dirs, double t) {
 }  // namespace
 
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
-                        BeamTrace* trace) {
+                        const BeamSearch* parent, BeamTrace* trace) {
   BeamSearch out;
   const RenderSetup& su = ctx.setup;
   const Vec3& eye = su.frame.eye;
@@ -90,15 +94,16 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial});
     if (!kept) continue;
     const double m = 0.5 * (a + b);
-    if (b - a <= std::max(abs_floor, tol_factor * lateral * b) || m <= a || m >= b ||
-        !st.has_room(2)) {
-      // Before keeping a piece, try the sharper mean-value form: a small box near (but off)
-      // the surface often has 0 in its natural enclosure only through overestimation.
-      if (!partial) {
-        const Interval fm = mean_value_form(ctx, box);
-        if (trace) trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false});
-        if (!fm.contains_zero()) continue;
-      }
+    const double tol = std::max(abs_floor, tol_factor * lateral * b);
+    // A piece a few tolerances wide near (but off) the surface often has 0 in its natural
+    // enclosure only through overestimation: the sharper mean-value form excludes it at once,
+    // where bisection would exclude it one tolerance-sized piece at a time.
+    if (!partial && b - a <= kMeanValueWidth * tol) {
+      const Interval fm = mean_value_form(ctx, box);
+      if (trace) trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false});
+      if (!fm.contains_zero()) continue;
+    }
+    if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) {
       found = true;
       kept_partial = partial;
       out.hit_box = box;
@@ -118,6 +123,32 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   out.t_near = a;
   out.t_far = range.hi();
   out.result = BeamResult::kPartial;
+
+  if (parent && parent->result == BeamResult::kFull && parent->t_s <= a && a <= parent->t_far) {
+    // Inherited proof: this beam's slices lie inside the parent's, where the signs are proved.
+    double tf = parent->t_far, t_fail = a;
+    for (int r = 0; r < kInheritRefine && tf - t_fail > 2 * (b - a); ++r) {
+      const double tm = 0.5 * (t_fail + tf);
+      if (slice_sign(ctx, out.dirs, tm) == -parent->sign) {
+        tf = tm;
+      } else {
+        t_fail = tm;
+      }
+    }
+    out.result = BeamResult::kFull;
+    out.t_s = parent->t_s;
+    out.sign = parent->sign;
+    out.t_far = tf;
+    out.hit_box = segment_box(eye, out.dirs, Interval(a, tf));
+    if (trace) {
+      trace->result = out.result;
+      trace->t_near = out.t_near;
+      trace->t_far = out.t_far;
+      trace->hit_box = out.hit_box;
+      trace->full_reason = "inside a Full parent: its sign change proof covers this beam";
+    }
+    return out;
+  }
 
   // Full coverage: opposite proved signs on the slices at t_near and at some t_far >= t_near,
   // with the box of [t_near, t_far] inside the bounds and f continuous on it.
@@ -174,7 +205,9 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
         }
         out.result = BeamResult::kFull;
         out.t_far = tf;
-        out.hit_box = seg;
+        out.t_s = t_s;
+        out.sign = s_near;
+        out.hit_box = segment_box(eye, out.dirs, Interval(a, tf));
         reason = "sign change proved between the slices at t_near and t_far";
         break;
       }

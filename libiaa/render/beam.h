@@ -23,13 +23,21 @@ struct BeamSearch {
   double t_far = 0;   ///< kFull: every ray meets the surface at or before it; else the end searched
   IBox hit_box;       ///< kFull: box over [t_near, t_far]; kPartial: box of the kept piece
   IBox dirs;          ///< enclosure of the beam's directions
+  // kFull only: the proof. f has the proved sign `sign` on the whole slice at t_s <= t_near and
+  // the opposite sign on the slice at t_far, and is continuous on the box of [t_s, t_far].
+  double t_s = 0;
+  int sign = 0;
 };
 
 /// Runs EvalRaySet on the beam `rect` over depths `range`. A piece stops being bisected when its
 /// depth extent is at most settings.depth_tolerance times the beam's lateral width at its far
 /// end. Records every piece into `trace` when it is not null. Needs a RoundingScope.
+///
+/// `parent`, when not null, is a Full result of a beam that contains this one: its slices
+/// contain this beam's slices, so its proof carries over and this beam is Full without new
+/// slice evaluations (t_far is only tightened where cheap).
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
-                        BeamTrace* trace);
+                        const BeamSearch* parent, BeamTrace* trace);
 
 /// The estimator of a Full beam (DESIGN.md, "IAA pixel subdivision", step 3): the interval dot
 /// product of the unit normal grad F / |grad F| over the hit box with the unit beam direction.

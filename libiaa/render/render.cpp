@@ -87,20 +87,20 @@ class Renderer {
   /// The kernel of one pixel, given the depth range left by the blocks above it.
   /// `root_range` is the range of its root block (the adaptive method's corner rays use it so
   /// that a corner ray's result does not depend on which pixel asks).
-  PixelResult pixel(int x, int y, Interval range, Interval root_range, AdaptiveCache* cache,
-                    PixelTrace* tr) {
+  PixelResult pixel(int x, int y, Interval range, const BeamSearch* pfull, Interval root_range,
+                    AdaptiveCache* cache, PixelTrace* tr) {
     const std::uint64_t e0 = ctx_.evals;
     PixelResult r;
     switch (st_.method) {
       case RenderMethod::kIaa:
-        r = iaa_pixel(x, y, range, tr);
+        r = iaa_pixel(x, y, range, pfull, tr);
         break;
       case RenderMethod::kPoint:
       case RenderMethod::kGrid:
-        r = grid_pixel(x, y, range, tr);
+        r = grid_pixel(x, y, range, pfull, tr);
         break;
       case RenderMethod::kAdaptive:
-        r = adaptive_pixel(x, y, range, root_range, cache, tr);
+        r = adaptive_pixel(x, y, range, pfull, root_range, cache, tr);
         break;
     }
     r.evals = static_cast<std::uint32_t>(ctx_.evals - e0);
@@ -109,10 +109,11 @@ class Renderer {
   }
 
   /// Runs EvalRaySet on a screen block; records it when tracing.
-  BeamSearch block(const PixelRect& rect, int level, Interval range, PixelTrace* tr, int parent) {
+  BeamSearch block(const PixelRect& rect, int level, Interval range, const BeamSearch* parent_full,
+                   PixelTrace* tr, int parent) {
     BeamTrace bt;
     const std::uint64_t e0 = ctx_.evals;
-    const BeamSearch s = eval_ray_set(ctx_, rect, range, tr ? &bt : nullptr);
+    const BeamSearch s = eval_ray_set(ctx_, rect, range, parent_full, tr ? &bt : nullptr);
     if (tr) {
       bt.rect = rect;
       bt.level = level;
@@ -134,11 +135,11 @@ class Renderer {
     bool any_full = false, any_partial = false;
   };
 
-  PixelResult iaa_pixel(int x, int y, Interval range, PixelTrace* tr) {
+  PixelResult iaa_pixel(int x, int y, Interval range, const BeamSearch* pfull, PixelTrace* tr) {
     IaaAccum acc;
     const int parent = tr && !tr->beams.empty() ? static_cast<int>(tr->beams.size()) - 1 : -1;
-    iaa_beam(PixelRect{double(x), double(y), double(x + 1), double(y + 1)}, 0, range, acc, tr,
-             parent);
+    iaa_beam(PixelRect{double(x), double(y), double(x + 1), double(y + 1)}, 0, range, pfull, acc,
+             tr, parent);
     PixelResult r;
     r.color = to_rgb(acc.color);
     r.leaves = acc.leaves;
@@ -149,13 +150,13 @@ class Renderer {
     return r;
   }
 
-  void iaa_beam(const PixelRect& rect, int level, Interval range, IaaAccum& acc, PixelTrace* tr,
-                int parent) {
+  void iaa_beam(const PixelRect& rect, int level, Interval range, const BeamSearch* parent_full,
+                IaaAccum& acc, PixelTrace* tr, int parent) {
     BeamTrace bt;
     BeamTrace* t = tr ? &bt : nullptr;
     const std::uint64_t e0 = ctx_.evals;
     const double area = rect.area();
-    const BeamSearch s = eval_ray_set(ctx_, rect, range, t);
+    const BeamSearch s = eval_ray_set(ctx_, rect, range, parent_full, t);
     BeamDecision decision = BeamDecision::kBackground;
     if (s.result == BeamResult::kMiss) {
       acc.color = acc.color + area * background(ctx_);
@@ -196,11 +197,12 @@ class Renderer {
     }
     if (decision != BeamDecision::kSplit) return;
     const Interval sub = child_range(s, range);
+    const BeamSearch* pf = s.result == BeamResult::kFull ? &s : nullptr;
     const double um = 0.5 * (rect.u0 + rect.u1), vm = 0.5 * (rect.v0 + rect.v1);
-    iaa_beam({rect.u0, rect.v0, um, vm}, level + 1, sub, acc, tr, index);
-    iaa_beam({um, rect.v0, rect.u1, vm}, level + 1, sub, acc, tr, index);
-    iaa_beam({rect.u0, vm, um, rect.v1}, level + 1, sub, acc, tr, index);
-    iaa_beam({um, vm, rect.u1, rect.v1}, level + 1, sub, acc, tr, index);
+    iaa_beam({rect.u0, rect.v0, um, vm}, level + 1, sub, pf, acc, tr, index);
+    iaa_beam({um, rect.v0, rect.u1, vm}, level + 1, sub, pf, acc, tr, index);
+    iaa_beam({rect.u0, vm, um, rect.v1}, level + 1, sub, pf, acc, tr, index);
+    iaa_beam({um, vm, rect.u1, rect.v1}, level + 1, sub, pf, acc, tr, index);
   }
 
   /// Shades a beam part: at the exact hit of its central ray when there is one, else at the
@@ -282,17 +284,18 @@ class Renderer {
   }
 
   /// The pixel's own beam first (every method does it: a Miss pixel costs one search).
-  std::optional<Interval> pixel_beam(int x, int y, Interval range, PixelTrace* tr) {
+  std::optional<Interval> pixel_beam(int x, int y, Interval range, const BeamSearch* pfull,
+                                     PixelTrace* tr) {
     const int parent = tr && !tr->beams.empty() ? static_cast<int>(tr->beams.size()) - 1 : -1;
-    const BeamSearch s =
-        block(PixelRect{double(x), double(y), double(x + 1), double(y + 1)}, 0, range, tr, parent);
+    const BeamSearch s = block(PixelRect{double(x), double(y), double(x + 1), double(y + 1)}, 0,
+                               range, pfull, tr, parent);
     if (s.result == BeamResult::kMiss) return std::nullopt;
     return child_range(s, range);
   }
 
-  PixelResult grid_pixel(int x, int y, Interval range, PixelTrace* tr) {
+  PixelResult grid_pixel(int x, int y, Interval range, const BeamSearch* pfull, PixelTrace* tr) {
     PixelResult r;
-    const auto sub = pixel_beam(x, y, range, tr);
+    const auto sub = pixel_beam(x, y, range, pfull, tr);
     if (!sub) {
       r.color = to_rgb(background(ctx_));
       r.certificate = PixelCertificate::kEmpty;
@@ -344,10 +347,10 @@ class Renderer {
     return s;
   }
 
-  PixelResult adaptive_pixel(int x, int y, Interval range, Interval root_range,
-                             AdaptiveCache* cache, PixelTrace* tr) {
+  PixelResult adaptive_pixel(int x, int y, Interval range, const BeamSearch* pfull,
+                             Interval root_range, AdaptiveCache* cache, PixelTrace* tr) {
     PixelResult r;
-    if (!pixel_beam(x, y, range, tr)) {
+    if (!pixel_beam(x, y, range, pfull, tr)) {
       r.color = to_rgb(background(ctx_));
       r.certificate = PixelCertificate::kEmpty;
       return r;
@@ -449,14 +452,14 @@ struct BlockTask {
   bool intersects_window(int bx, int by, int size) const {
     return bx < win.x1 && bx + size > win.x0 && by < win.y1 && by + size > win.y0;
   }
-  void run(int bx, int by, int size, Interval range) {
+  void run(int bx, int by, int size, Interval range, const BeamSearch* pfull) {
     if (size < kMinBlock) {
-      store(bx, by, rn.pixel(bx, by, range, root_range, cache, nullptr));
+      store(bx, by, rn.pixel(bx, by, range, pfull, root_range, cache, nullptr));
       return;
     }
     const std::uint64_t e0 = ctx.evals;
     const BeamSearch s = rn.block(block_rect(bx, by, size, film.width, film.height),
-                                  block_level(size), range, nullptr, -1);
+                                  block_level(size), range, pfull, nullptr, -1);
     block_evals += ctx.evals - e0;
     if (size == kRootBlock)
       root_range = s.result == BeamResult::kMiss ? range : child_range(s, range);
@@ -469,7 +472,7 @@ struct BlockTask {
     for (int k = 0; k < 4; ++k) {
       const int cx = bx + (k & 1) * h, cy = by + (k >> 1) * h;
       if (cx >= film.width || cy >= film.height || !intersects_window(cx, cy, h)) continue;
-      run(cx, cy, h, sub);
+      run(cx, cy, h, sub, s.result == BeamResult::kFull ? &s : nullptr);
     }
   }
 };
@@ -527,7 +530,7 @@ Film render(const Scene& scene, const RenderSettings& settings, const Exec& exec
                           if (setup.depth.is_empty()) {
                             task.fill_background(bx, by, kRootBlock);
                           } else {
-                            task.run(bx, by, kRootBlock, setup.depth);
+                            task.run(bx, by, kRootBlock, setup.depth, nullptr);
                           }
                           block_evals[i] = task.block_evals;
                           phase.advance(1);
@@ -586,11 +589,14 @@ PixelResult render_pixel(const Scene& scene, const RenderSettings& settings, int
   // Walk the chain of screen blocks above the pixel, exactly as render() does.
   Interval range = setup.depth, root_range = setup.depth;
   int parent = -1;
+  BeamSearch prev;  // the block above, passed on when it is Full (as render() does)
+  bool have_prev = false;
   for (int size = kRootBlock; size >= kMinBlock; size /= 2) {
     const int bx = (x / size) * size, by = (y / size) * size;
     const std::uint64_t e0 = ctx.evals;
-    const BeamSearch s = rn.block(block_rect(bx, by, size, scene.width, scene.height),
-                                  block_level(size), range, trace, parent);
+    const BeamSearch s =
+        rn.block(block_rect(bx, by, size, scene.width, scene.height), block_level(size), range,
+                 have_prev ? &prev : nullptr, trace, parent);
     out.block_evals += static_cast<std::uint32_t>(ctx.evals - e0);
     if (trace) parent = static_cast<int>(trace->beams.size()) - 1;
     if (size == kRootBlock)
@@ -600,9 +606,11 @@ PixelResult render_pixel(const Scene& scene, const RenderSettings& settings, int
       return out;
     }
     range = child_range(s, range);
+    prev = s;
+    have_prev = s.result == BeamResult::kFull;
   }
   const std::uint32_t block_evals = out.block_evals;
-  out = rn.pixel(x, y, range, root_range, nullptr, trace);
+  out = rn.pixel(x, y, range, have_prev ? &prev : nullptr, root_range, nullptr, trace);
   out.block_evals = block_evals;
   return out;
 }

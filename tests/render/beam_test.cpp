@@ -46,7 +46,7 @@ TEST(EvalRaySet, MissBeamsHoldNoRootOfRandomRays) {
       const double w = std::ldexp(1.0, static_cast<int>(U(rng) * 8) - 4);
       const double u0 = U(rng) * (64 - w), v0 = U(rng) * (64 - w);
       const PixelRect rect{u0, v0, u0 + w, v0 + w};
-      const BeamSearch b = eval_ray_set(ctx, rect, setup.depth, nullptr);
+      const BeamSearch b = eval_ray_set(ctx, rect, setup.depth, nullptr, nullptr);
       for (int k = 0; k < 100; ++k) {
         const double u = rect.u0 + U(rng) * w, v = rect.v0 + U(rng) * w;
         const Vec3 d = setup.frame.dir(u, v);
