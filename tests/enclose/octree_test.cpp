@@ -261,6 +261,24 @@ TEST(Enclose, CertifiedRootsOnRandomSegmentsLieInTheLeaves) {
   EXPECT_GE(surfaces, 6);
 }
 
+// A surface with no sign change at all, (|p|^2 - 1/4)^2 = 0: nothing can be certified, yet every
+// point of the sphere must be enclosed (no algorithm may rely on a sign change).
+TEST(Enclose, SurfaceWithoutSignChangeIsEnclosedAsPossible) {
+  const Enclosure e = run("(x^2 + y^2 + z^2 - 0.25)^2", kUnit, 5, 2);
+  ASSERT_FALSE(e.cells.empty());
+  EXPECT_EQ(e.count(CellClass::kCrossing), 0u);
+  const LeafSet leaves(e);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int k = 0; k < 2000; ++k) {
+    Vec3 u{n(rng), n(rng), n(rng)};
+    u = 0.5 * normalize(u);
+    // u is within a few ulps of the sphere; a tiny box around it holds a point of it.
+    const Box3 b{u - Vec3{1e-12, 1e-12, 1e-12}, u + Vec3{1e-12, 1e-12, 1e-12}};
+    ASSERT_TRUE(leaves.meets(b)) << "sphere point (" << u.x << ", " << u.y << ", " << u.z << ")";
+  }
+}
+
 // The teardrop's neck is thinner than a depth-5 cell: the search along the x axis (where the
 // neck is) still finds roots, and they are enclosed; refinement keeps the neck connected.
 TEST(Enclose, TeardropNeckIsEnclosed) {
