@@ -14,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -89,8 +90,10 @@ double grid_coordinate(double lo, double hi, std::uint64_t i, int depth);
 inline double grid_coordinate_upward(double lo, double hi, std::uint64_t i, int depth) {
   if (i == 0) return lo;
   if (i >= (std::uint64_t{1} << depth)) return hi;
-  // i / 2^depth is exact; the product and the sum round upward, which keeps the map monotone.
-  return lo + (static_cast<double>(i) / static_cast<double>(std::uint64_t{1} << depth)) * (hi - lo);
+  // i * 2^-depth is exact (2^-depth built from its exponent bits, no division); the product and
+  // the sum round upward, which keeps the map monotone.
+  const double inv = std::bit_cast<double>(static_cast<std::uint64_t>(1023 - depth) << 52);
+  return lo + (static_cast<double>(i) * inv) * (hi - lo);
 }
 
 /// Canonical order of cells: by depth, then by Morton order of the index (x the least significant
