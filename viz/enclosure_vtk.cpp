@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <numeric>
 
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCellType.h>
@@ -257,11 +258,12 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   return grid;
 }
 
-void write_enclosure_vtu(const std::string& path, const Enclosure& enc, const EnclosureInfo& info) {
-  write_grid_vtu(path, enclosure_to_grid(enc, info));
+void write_enclosure_vtu(const std::string& path, const Enclosure& enc, const EnclosureInfo& info,
+                         Progress* progress) {
+  write_grid_vtu(path, enclosure_to_grid(enc, info), progress);
 }
 
-void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid) {
+void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid, Progress* progress) {
   auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
   writer->SetFileName(path.c_str());
   writer->SetInputData(grid);
@@ -274,6 +276,24 @@ void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid) {
   // Int32 point numbers when they fit: half the bytes of connectivity and offsets.
   if (grid->GetNumberOfCells() < (vtkIdType{1} << 27)) writer->SetIdTypeToInt32();
   writer->SetBlockSize(1 << 20);
+  // Forward VTK's progress (0..1) to ours, in thousandths.
+  ProgressPhase phase(progress, "write .vtu", 1000);
+  struct Forward {
+    ProgressPhase* phase;
+    std::uint64_t done = 0;
+  } forward{&phase};
+  auto observer = vtkSmartPointer<vtkCallbackCommand>::New();
+  observer->SetClientData(&forward);
+  observer->SetCallback([](vtkObject* caller, unsigned long, void* client, void*) {
+    auto* f = static_cast<Forward*>(client);
+    const auto now =
+        static_cast<std::uint64_t>(1000.0 * static_cast<vtkAlgorithm*>(caller)->GetProgress());
+    if (now > f->done) {
+      f->phase->advance(now - f->done);
+      f->done = now;
+    }
+  });
+  if (progress) writer->AddObserver(vtkCommand::ProgressEvent, observer);
   if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
     throw Error("cannot write '" + path + "': the VTK writer failed");
   }

@@ -34,7 +34,9 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
 
 /// Writes `enc` to `path` as compressed appended binary .vtu (LZ4). Writes `path` directly: tools
 /// wrap this in write_atomically. Throws iaa::Error when VTK fails to write.
-void write_enclosure_vtu(const std::string& path, const Enclosure& enc, const EnclosureInfo& info);
+/// `progress`, when given, sees a phase "write .vtu" of 1000 units driven by VTK's own progress.
+void write_enclosure_vtu(const std::string& path, const Enclosure& enc, const EnclosureInfo& info,
+                         Progress* progress = nullptr);
 
 /// An enclosure read back from a .vtu written by write_enclosure_vtu.
 struct EnclosureFile {
@@ -45,7 +47,8 @@ struct EnclosureFile {
 };
 
 /// Writes a grid made by enclosure_to_grid with the same writer settings (for timing the parts).
-void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid);
+void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid,
+                    Progress* progress = nullptr);
 
 /// Reads a .vtu written by write_enclosure_vtu with vtkXMLUnstructuredGridReader. Throws
 /// iaa::Error when the file is missing, unreadable, or lacks the arrays above.

@@ -238,7 +238,9 @@ void run(const EncloseOptions& o) {
   if (!o.output.empty()) {
     const auto t1 = std::chrono::steady_clock::now();
     tools::write_atomically(o.output, [&](const std::string& tmp) {
-      viz::write_enclosure_vtu(tmp, enc, viz::EnclosureInfo{expression, s});
+      exec.run([&] {
+        viz::write_enclosure_vtu(tmp, enc, viz::EnclosureInfo{expression, s}, &bar);
+      });
     });
     t_write = seconds_since(t1);
   }
