@@ -32,7 +32,7 @@ TriangleSoup octree(const Tape& t, const Box3& b, int depth, int refine = 4) {
 }
 
 // Longest stretch of x in [-0.3, 0.3] that no triangle spans: where the neck is missing.
-double neck_gap(const TriangleSoup& m) {
+[[maybe_unused]] double neck_gap(const TriangleSoup& m) {
   std::vector<std::pair<double, double>> spans;
   for (const auto& t : m.triangles) {
     double lo = 1e300, hi = -1e300;

@@ -32,7 +32,7 @@ struct MeshOptions {
 void run(const MeshOptions& o) {
   if (o.threads < 0)
     throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
-  const meshing::Method method = meshing::parse_mesh_method(o.method);
+  [[maybe_unused]] const meshing::Method method = meshing::parse_mesh_method(o.method);
 #ifndef IAA_HAVE_OPENMESH
   throw Error(
       "this iaa was built without OpenMesh (IAA_WITH_OPENMESH=OFF): meshes cannot be written");

@@ -164,7 +164,8 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
   p.validate();
   MeshRun run;
   const auto t0 = std::chrono::steady_clock::now();
-  const double edge = std::fmax(s.bounds.size().x, std::fmax(s.bounds.size().y, s.bounds.size().z));
+  [[maybe_unused]] const double edge =
+      std::fmax(s.bounds.size().x, std::fmax(s.bounds.size().y, s.bounds.size().z));
   if (m == Method::kOctree) {
     OctreeMeshSettings os;
     os.enclose = p.enclose_settings(s.bounds);
