@@ -573,9 +573,15 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
                           }
                           phase.advance(r.size());
                         });
-      auto vertex_of = [&](U64 r) {
-        return static_cast<std::size_t>(std::lower_bound(edges.begin(), edges.end(), r) -
-                                        edges.begin());
+      // Vertex number of a crossing edge, by its axis and position: a direct table.
+      std::array<std::vector<std::uint32_t>, 3> number;
+      for (int a = 0; a < 3; ++a) number[std::size_t(a)].resize(g.lines[std::size_t(a)].size());
+      tbb::parallel_for(std::size_t{0}, n_edge_vertices, [&](std::size_t i) {
+        number[std::size_t(edges[i] >> 40)][edges[i] & ((U64{1} << 40) - 1)] =
+            static_cast<std::uint32_t>(i);
+      });
+      auto vertex_of = [&](U64 r) -> std::size_t {
+        return number[std::size_t(r >> 40)][r & ((U64{1} << 40) - 1)];
       };
       tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
         NearestScope nearest;
