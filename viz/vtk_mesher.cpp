@@ -10,6 +10,7 @@
 #include <vtkPolyData.h>
 #include <vtkSampleFunction.h>
 
+#include <atomic>
 #include <cfenv>
 #include <cmath>
 #include <memory>
@@ -39,7 +40,11 @@ namespace {
 class TapeFunction : public vtkImplicitFunction {
  public:
   static TapeFunction* New();
-  vtkTypeMacro(TapeFunction, vtkImplicitFunction) const Tape* tape = nullptr;
+  // clang-format off
+  vtkTypeMacro(TapeFunction, vtkImplicitFunction)
+  // clang-format on
+  const Tape* tape = nullptr;
+  std::uint64_t run = 0;  ///< unique per mesh_vtk() call: a tape's address may be reused
 
   using vtkImplicitFunction::EvaluateFunction;
   double EvaluateFunction(double x[3]) override {
@@ -54,11 +59,11 @@ class TapeFunction : public vtkImplicitFunction {
 
  private:
   PointEval& evaluator() {
-    thread_local const Tape* cached = nullptr;
+    thread_local std::uint64_t cached = 0;
     thread_local std::unique_ptr<PointEval> pe;
-    if (cached != tape || !pe) {
+    if (cached != run || !pe) {
       pe = std::make_unique<PointEval>(*tape);
-      cached = tape;
+      cached = run;
     }
     return *pe;
   }
@@ -72,7 +77,9 @@ TriangleSoup mesh_vtk(const Tape& tape, const VtkMeshSettings& s, const Exec& ex
   const int saved = std::fegetround();
   std::fesetround(FE_TONEAREST);
   vtkNew<TapeFunction> fn;
+  static std::atomic<std::uint64_t> next_run{1};
   fn->tape = &tape;
+  fn->run = next_run++;
   vtkNew<vtkSampleFunction> sample;
   sample->SetImplicitFunction(fn);
   sample->SetModelBounds(s.bounds.lo.x, s.bounds.hi.x, s.bounds.lo.y, s.bounds.hi.y, s.bounds.lo.z,

@@ -9,6 +9,7 @@
 #include <CGAL/Mesh_triangulation_3.h>
 #include <CGAL/make_mesh_3.h>
 
+#include <atomic>
 #include <cfenv>
 #include <cmath>
 #include <memory>
@@ -60,17 +61,22 @@ using Tr = CGAL::Mesh_triangulation_3<MeshDomain, CGAL::Default, Concurrency>::t
 using C3t3 = CGAL::Mesh_complex_3_in_triangulation_3<Tr>;
 using Criteria = CGAL::Mesh_criteria_3<Tr>;
 
+// Each call of mesh_cgal() has its own number: the per-thread evaluators below are rebuilt when it
+// changes (a tape's address alone could be reused by a later tape).
+std::atomic<std::uint64_t> g_next_run{1};
+
 // f bounded by the box: negative exactly where f < 0 inside the bounds. Mesh_3 calls it from TBB
 // workers, so each thread keeps its own evaluator (evaluators own scratch space).
 struct BoundedFunction {
   const Tape* tape;
   Box3 box;
+  std::uint64_t run;
   FT operator()(const Point& p) const {
-    thread_local const Tape* cached = nullptr;
+    thread_local std::uint64_t cached = 0;
     thread_local std::unique_ptr<PointEval> pe;
-    if (cached != tape || !pe) {
+    if (cached != run || !pe) {
       pe = std::make_unique<PointEval>(*tape);
-      cached = tape;
+      cached = run;
     }
     double out = 0;
     for (int a = 0; a < 3; ++a) out = std::max({out, box.lo[a] - p[a], p[a] - box.hi[a]});
@@ -87,6 +93,7 @@ struct SizeField {
   Box3 box;
   double size, coarse, tol;
   const Tape* tape;
+  std::uint64_t run;
   template <class Index>
   FT operator()(const Point& p, int, const Index&) const {
     for (int a = 0; a < 3; ++a) {
@@ -100,19 +107,19 @@ struct SizeField {
 };
 
 // True when f vanishes at p up to the position error of Mesh_3's surface search.
-bool near_zero(const Tape& tape, const Vec3& p, double tol) {
-  thread_local const Tape* cached = nullptr;
+bool near_zero(const Tape& tape, std::uint64_t run, const Vec3& p, double tol) {
+  thread_local std::uint64_t cached = 0;
   thread_local std::unique_ptr<PointGradEval> pg;
-  if (cached != &tape || !pg) {
+  if (cached != run || !pg) {
     pg = std::make_unique<PointGradEval>(tape);
-    cached = &tape;
+    cached = run;
   }
   const PGrad g = pg->eval(p);
   return std::isfinite(g.v) && std::fabs(g.v) <= length(g.g) * tol;
 }
 
 bool SizeField::on_surface(const Point& p) const {
-  return near_zero(*tape, {p.x(), p.y(), p.z()}, 100 * tol);
+  return near_zero(*tape, run, {p.x(), p.y(), p.z()}, 100 * tol);
 }
 
 }  // namespace
@@ -122,17 +129,18 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
   s.validate();
   const int saved = std::fegetround();
   std::fesetround(FE_TONEAREST);
+  const std::uint64_t run = g_next_run++;
   const Box3& b = s.bounds;
   const Vec3 c = b.center(), half = 0.5 * b.size();
   const double r2 = 1.0001 * dot(half, half) + 1e-300;
   namespace params = CGAL::parameters;
   MeshDomain domain = MeshDomain::create_implicit_mesh_domain(
-      Function(BoundedFunction{&tape, b}), K::Sphere_3(Point(c.x, c.y, c.z), r2),
+      Function(BoundedFunction{&tape, b, run}), K::Sphere_3(Point(c.x, c.y, c.z), r2),
       params::relative_error_bound = s.relative_error);
   // A surface mesh only: the volume criterion is made large so Mesh_3 does not refine cells.
   const double diag = length(b.size());
   const double pos_tol = std::max(1e-9, 10 * s.relative_error) * diag;
-  const SizeField size_field{b, s.facet_size, 0.25 * diag, pos_tol, &tape};
+  const SizeField size_field{b, s.facet_size, 0.25 * diag, pos_tol, &tape, run};
   Criteria criteria(params::facet_angle = s.facet_angle, params::facet_size = size_field,
                     params::facet_distance = s.facet_distance, params::cell_radius_edge_ratio = 3,
                     params::cell_size = diag);
@@ -173,7 +181,7 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
     // A facet of the domain's cut by the bounds has a vertex where f is not 0.
     bool bound_facet = false;
     for (int k = 0; k < 3 && !bound_facet; ++k)
-      bound_facet = !near_zero(tape, p[std::size_t(k)], pos_tol);
+      bound_facet = !near_zero(tape, run, p[std::size_t(k)], pos_tol);
     if (bound_facet) {
       ++on_bounds;
       continue;
