@@ -580,9 +580,9 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
       case LayerRole::kMesh:
         p->SetSpecular(0.25);
         p->SetSpecularPower(30);
-        if (pd && pd->GetNumberOfPolys() > 0 && pd->GetNumberOfPolys() < 20000) {
+        if (pd && pd->GetNumberOfPolys() > 0 && pd->GetNumberOfPolys() < 6000) {
           p->SetEdgeVisibility(true);
-          p->SetEdgeColor(0.35, 0.35, 0.4);
+          p->SetEdgeColor(0.5, 0.5, 0.56);
         }
         break;
       default:
@@ -644,7 +644,8 @@ void setup_stage(Stage& s, const std::vector<Layer>& layers, const ViewSettings&
       cap->SetInput(v.captions[i].c_str());
       cap->GetTextProperty()->SetColor(0.05, 0.05, 0.05);
       cap->GetTextProperty()->SetFontSize(15);
-      cap->SetDisplayPosition(10, 8);
+      cap->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+      cap->GetPositionCoordinate()->SetValue(0.015, 0.015);
       ren->AddActor2D(cap);
       s.captions.push_back(cap);
     }
