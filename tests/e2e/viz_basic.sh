@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# iaa-viz end to end: headless render (own Xvfb with DISPLAY unset) of an enclosure and a mesh,
+# PNGs that are not blank; clear errors for a missing file, an unknown type, a bad size.
+set -euo pipefail
+bin="$1"
+[ -x "$bin/iaa-viz" ] || { echo "iaa-viz not built: skipped"; exit 0; }
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+unset DISPLAY
+cat > "$tmp/s.toml" <<'TOML'
+name = "sphere"
+[surface]
+expression = "x^2 + y^2 + z^2 - 0.5"
+min = [-1, -1, -1]
+max = [1, 1, 1]
+[camera]
+eye = [0, 0, 3]
+look_at = [0, 0, 0]
+up = [0, 1, 0]
+fov = 40
+TOML
+"$bin/iaa-viz" enclose "$tmp/s.toml" --depth 4 -q --size 200x150 -o "$tmp/enc.png"
+test -s "$tmp/enc.png"
+# Not blank: the PNG of a white picture at this size compresses to far less.
+[ "$(stat -c %s "$tmp/enc.png")" -gt 3000 ] || { echo "enc.png looks blank"; exit 1; }
+if "$bin/iaa-viz" "$tmp/missing.vtu" -o "$tmp/x.png" 2>"$tmp/err"; then echo "missing file accepted"; exit 1; fi
+grep -q "no such file" "$tmp/err"
+touch "$tmp/a.xyz"
+if "$bin/iaa-viz" "$tmp/a.xyz" -o "$tmp/x.png" 2>"$tmp/err"; then echo "unknown type accepted"; exit 1; fi
+grep -q "unknown file type" "$tmp/err"
+if "$bin/iaa-viz" enclose "$tmp/s.toml" --size 5x5 -o "$tmp/x.png" 2>"$tmp/err"; then echo "bad size accepted"; exit 1; fi
+grep -q "16..8192" "$tmp/err"
+test ! -e "$tmp/x.png"
+echo "viz_basic: ok"
