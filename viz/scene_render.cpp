@@ -258,13 +258,14 @@ LayerRole guess_role(const std::string& name, vtkDataSet* d) {
   if (name_has(name, "slab")) return LayerRole::kSlabs;
   if (name_has(name, "depth")) return LayerRole::kDepthBoxes;
   if (name_has(name, "point") || name_has(name, "hit")) return LayerRole::kPoints;
+  // The arrays say more than a loose file name such as "boxes.vtu".
+  if (has_cell_array(d, kVerdictArray)) return LayerRole::kDepthBoxes;
+  if (has_cell_array(d, kClassArray)) return LayerRole::kEnclosure;
+  if (has_cell_array(d, kResultArray)) return LayerRole::kSlabs;
   if (name_has(name, "enclos") || name_has(name, "octree") || name_has(name, "box")) {
     return LayerRole::kEnclosure;
   }
   if (name_has(name, "mesh")) return LayerRole::kMesh;
-  if (has_cell_array(d, kVerdictArray)) return LayerRole::kDepthBoxes;
-  if (has_cell_array(d, kClassArray)) return LayerRole::kEnclosure;
-  if (has_cell_array(d, kResultArray)) return LayerRole::kSlabs;
   if (auto* pd = vtkPolyData::SafeDownCast(d); pd && pd->GetNumberOfPolys() > 0) {
     return LayerRole::kMesh;
   }
