@@ -85,13 +85,14 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   while (st.pop(&a, &b)) {
     const IBox box = clip_box(segment_box(eye, out.dirs, Interval(a, b)), ctx.bounds());
     if (box.is_empty()) {
-      if (trace) trace->pieces.push_back({Interval(a, b), box, Interval::empty(), false, false});
+      if (trace)
+        trace->pieces.push_back({Interval(a, b), box, Interval::empty(), false, false, false});
       continue;
     }
     bool partial = false;
     const Interval f = ctx.eval(box, &partial);
     const bool kept = !f.is_empty() && f.contains_zero();
-    if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial});
+    if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial, false});
     if (!kept) continue;
     const double m = 0.5 * (a + b);
     const double tol = std::max(abs_floor, tol_factor * lateral * b);
@@ -100,7 +101,8 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     // where bisection would exclude it one tolerance-sized piece at a time.
     if (!partial && b - a <= kMeanValueWidth * tol) {
       const Interval fm = mean_value_form(ctx, box);
-      if (trace) trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false});
+      if (trace)
+        trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false, true});
       if (!fm.contains_zero()) continue;
     }
     if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) {

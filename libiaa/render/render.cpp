@@ -258,14 +258,15 @@ class Renderer {
                                 su_.frame.scale * range.hi() * 4);
     out.hit = h.hit;
     out.certified = h.certified;
+    Vec3 p, n;
     if (h.hit) {
       const Vec3 d = su_.frame.dir(u, v);
-      const Vec3 p = su_.frame.eye + h.t.mid() * d;
+      p = su_.frame.eye + h.t.mid() * d;
       Vec3 g = ctx_.pg.eval(p).g;
       if (!(std::isfinite(g.x) && std::isfinite(g.y) && std::isfinite(g.z)) || length(g) == 0) {
         g = interval_mid_gradient(segment_box(su_.frame.eye, su_.frame.dir_box(u, v), h.t));
       }
-      out.color = shade(ctx_, p, g, d);
+      out.color = shade(ctx_, p, g, d, tr ? &n : nullptr);
     } else {
       out.color = background(ctx_);
     }
@@ -277,6 +278,8 @@ class Renderer {
       rt.hit = h.hit;
       rt.certified = h.certified;
       rt.t_hit = h.t;
+      rt.point = p;
+      rt.normal = n;
       rt.color = out.color;
       tr->rays.push_back(rt);
     }

@@ -37,6 +37,9 @@ struct DepthPieceTrace {
   Interval f;    ///< F(box); empty when the box was empty (outside the bounds)
   bool kept;     ///< false: excluded (0 not in F), true: 0 in F (may hold surface)
   bool partial;  ///< F met a partial domain on the box
+  /// F is the mean-value form on the same piece (a second, sharper test after a natural
+  /// interval value that kept it), not the natural interval value.
+  bool mean_value;
 };
 
 /// What the renderer did with a beam after EvalRaySet.
@@ -77,6 +80,7 @@ struct RayTrace {
   bool hit = false;
   bool certified = false;  ///< the root was proved (sign change or interval Newton)
   Interval t_hit;          ///< enclosure of the first root when hit
+  Vec3 point, normal;      ///< shading point and unit normal (facing the eye) when hit
   Vec3 color;
 };
 
