@@ -343,6 +343,15 @@ std::vector<Layer> load_layers(const std::string& path, std::optional<ViewCamera
     throw Error("cannot read '" + path + "': not a data set VTK can draw");
   }
   if (layers.empty()) throw Error("'" + path + "' holds no points to draw");
+  // In a pixel inspection the slabs, depth boxes near the hits and the points are the subject;
+  // the search's coarse pieces and the enclosure boxes around them are context, outlined.
+  bool inspection = false;
+  for (const Layer& l : layers)
+    inspection |= l.role == LayerRole::kSlabs || l.role == LayerRole::kPoints;
+  if (inspection) {
+    for (Layer& l : layers)
+      l.outline = name_has(l.name, "coarse") || l.role == LayerRole::kEnclosure;
+  }
   return layers;
 }
 
@@ -367,21 +376,21 @@ struct Bounds {
   double radius() const { return 0.5 * length(hi - lo); }
 };
 
-bool is_focus(LayerRole r) {
-  return r == LayerRole::kSlabs || r == LayerRole::kDepthBoxes || r == LayerRole::kPoints;
-}
-
-/// Bounds of the layers that matter most (see auto_camera).
+/// Bounds of the layers that matter most (see auto_camera): in a pixel inspection the hit slabs,
+/// hit points and the depth boxes that are not outlined (the coarse pieces of the search run
+/// through much of the scene and would frame it all); else everything.
 Bounds focus_bounds(const std::vector<Layer>& layers) {
   Bounds focus, all;
   for (const Layer& l : layers) {
     double b[6];
     l.data->GetBounds(b);
     all.add(b);
-    if (is_focus(l.role)) focus.add(b);
+    const bool subject = l.role == LayerRole::kSlabs || l.role == LayerRole::kPoints ||
+                         l.role == LayerRole::kDepthBoxes;
+    if (subject && !l.outline) focus.add(b);
   }
   // A focus of a single point (one hit point and nothing else) is no scale to frame.
-  if (focus.empty() || focus.radius() <= 0) return all;
+  if (focus.empty() || !(focus.radius() > 0)) return all;
   return focus;
 }
 
@@ -538,14 +547,16 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
     }
     a->SetMapper(mapper);
     vtkProperty* p = a->GetProperty();
-    p->SetOpacity(opacity);
+    p->SetOpacity(l.outline && l.opacity < 0 ? 0.6 : opacity);
     if (!array.empty()) {
       mapper->SetScalarModeToUseCellFieldData();
       mapper->SelectColorArray(array.c_str());
       mapper->SetLookupTable(lookup_table(array));
       mapper->UseLookupTableScalarRangeOn();
       mapper->ScalarVisibilityOn();
-      const std::string prefix = role_label(l.role);
+      const std::string prefix =
+          std::string(l.outline && l.role == LayerRole::kDepthBoxes ? "coarse " : "") +
+          role_label(l.role) + (l.outline ? " (outline)" : "");
       const std::set<int> present = codes_in(l.data, array);
       for (const Category& c : categories_of(array)) {
         if (present.count(c.code)) {
@@ -557,6 +568,13 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
       const Vec3 c = plain_colour(l.role, plain_index++);
       p->SetColor(c.x, c.y, c.z);
       add_legend(role_label(l.role)[0] ? role_label(l.role) : l.name, c);
+    }
+    if (l.outline) {
+      p->SetRepresentationToWireframe();
+      p->SetLineWidth(1.5);
+      p->LightingOff();
+      ren->AddActor(a);
+      continue;
     }
     switch (l.role) {
       case LayerRole::kFrusta:

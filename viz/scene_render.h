@@ -87,14 +87,19 @@ struct Layer {
   LayerRole role = LayerRole::kGeneric;
   double opacity = -1;  ///< < 0: the role's default
   int viewport = 0;     ///< which side-by-side view it is drawn in (see ViewSettings::viewports)
+  /// Draw only the cells' edges, in the colours of their categories: context that would hide the
+  /// focus if filled (a pixel inspection's coarse depth boxes and the enclosure boxes around it).
+  bool outline = false;
 };
 
 /// Guesses a layer's role from its name and arrays.
 LayerRole guess_role(const std::string& name, vtkDataSet* data);
 
 /// Reads one file into layers (a multiblock gives one layer per non-empty leaf, named by its
-/// block name). Throws iaa::Error for a missing or unreadable file or an unknown extension (the
-/// message lists the known ones). `camera`, when not null, receives a camera recorded in the file.
+/// block name). In a pixel inspection (a file with hit slabs or hit points), blocks whose name
+/// says "coarse" and enclosure boxes are outlined (Layer::outline). Throws iaa::Error for a missing
+/// or unreadable file or an unknown extension (the message lists the known ones). `camera`, when
+/// not null, receives a camera recorded in the file.
 std::vector<Layer> load_layers(const std::string& path,
                                std::optional<ViewCamera>* camera = nullptr);
 
@@ -115,9 +120,10 @@ struct ViewSettings {
   std::vector<std::string> captions;
 };
 
-/// An automatic camera: looks at the layers that matter most (slabs, depth boxes and points when
-/// present, else everything) from an oblique direction, or from the side of `hint`'s viewing
-/// direction when a recorded camera is known (a pixel's beam is then seen along its length).
+/// An automatic camera: looks at the layers that matter most (hit slabs and hit points when
+/// present, else depth boxes, else everything) from an oblique direction, or from the side of
+/// `hint`'s viewing direction when a recorded camera is known (a pixel's beam is then seen along
+/// its length).
 ViewCamera auto_camera(const std::vector<Layer>& layers, const std::optional<ViewCamera>& hint,
                        double aspect);
 
