@@ -613,7 +613,15 @@ PixelResult render_pixel(const Scene& scene, const RenderSettings& settings, int
     have_prev = s.result == BeamResult::kFull;
   }
   const std::uint32_t block_evals = out.block_evals;
-  out = rn.pixel(x, y, range, have_prev ? &prev : nullptr, root_range, nullptr, trace);
+  // The adaptive method's corner rays, shared within the pixel as render() shares them (render()
+  // also shares them with the pixels around, so its ray and evaluation counts can be lower).
+  std::optional<AdaptiveCache> cache;
+  if (settings.method == RenderMethod::kAdaptive) {
+    const int g = 1 << settings.max_level;
+    cache.emplace(x * g, y * g, g + 1);
+  }
+  out = rn.pixel(x, y, range, have_prev ? &prev : nullptr, root_range, cache ? &*cache : nullptr,
+                 trace);
   out.block_evals = block_evals;
   return out;
 }
