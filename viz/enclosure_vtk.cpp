@@ -20,6 +20,8 @@
 #include <vtkPoints.h>
 #include <vtkSignedCharArray.h>
 #include <vtkStringArray.h>
+#include <vtkTypeInt32Array.h>
+#include <vtkTypeInt64Array.h>
 #include <vtkTypeUInt32Array.h>
 #include <vtkTypeUInt64Array.h>
 #include <vtkUnsignedCharArray.h>
@@ -168,8 +170,13 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   const auto np = static_cast<vtkIdType>(base[chunks]);
 
   auto coords = make_array<vtkDoubleArray>("Points", 3, np);
-  auto conn = make_array<vtkIdTypeArray>("connectivity", 1, 8 * nc);
-  auto offsets = make_array<vtkIdTypeArray>("offsets", 1, nc + 1);
+  // 32-bit connectivity and offsets when they fit: VTK 9 writes a cell array's own storage type,
+  // so this halves their bytes in the file (and the time to compress them).
+  const bool narrow = 8 * nc < (vtkIdType{1} << 31) && np < (vtkIdType{1} << 31);
+  auto conn32 = make_array<vtkTypeInt32Array>("connectivity", 1, narrow ? 8 * nc : 0);
+  auto offsets32 = make_array<vtkTypeInt32Array>("offsets", 1, narrow ? nc + 1 : 0);
+  auto conn64 = make_array<vtkTypeInt64Array>("connectivity", 1, narrow ? 0 : 8 * nc);
+  auto offsets64 = make_array<vtkTypeInt64Array>("offsets", 1, narrow ? 0 : nc + 1);
   auto types = make_array<vtkUnsignedCharArray>("types", 1, nc);
   auto depth = make_array<vtkUnsignedCharArray>("depth", 1, nc);
   // Int8, not UInt8: VTK mappers draw unsigned char scalars as colours instead of mapping them.
@@ -179,15 +186,24 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   auto index = make_array<vtkTypeUInt32Array>("index", 3, nc);
 
   double* p = coords->GetPointer(0);
-  vtkIdType* cn = conn->GetPointer(0);
-  vtkIdType* of = offsets->GetPointer(0);
+  vtkTypeInt32* cn32 = conn32->GetPointer(0);
+  vtkTypeInt32* of32 = offsets32->GetPointer(0);
+  vtkTypeInt64* cn64 = conn64->GetPointer(0);
+  vtkTypeInt64* of64 = offsets64->GetPointer(0);
+  const auto set_id = [&](vtkTypeInt32* a32, vtkTypeInt64* a64, std::size_t i, std::uint64_t v) {
+    if (narrow) {
+      a32[i] = static_cast<vtkTypeInt32>(v);
+    } else {
+      a64[i] = static_cast<vtkTypeInt64>(v);
+    }
+  };
   unsigned char* ty = types->GetPointer(0);
   unsigned char* de = depth->GetPointer(0);
   signed char* cl = cls->GetPointer(0);
   double* lo = flo->GetPointer(0);
   double* hi = fhi->GetPointer(0);
   std::uint32_t* ix = index->GetPointer(0);
-  of[nc] = 8 * nc;
+  set_id(of32, of64, n, 8 * n);
   // Pass 2: global numbers and the arrays. Grid coordinates are defined with upward rounding
   // (octree.h), which makes the points exactly the corners of Enclosure::box.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const auto& r) {
@@ -204,10 +220,8 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
       const std::size_t b = ch * kChunk, e = std::min(n, b + kChunk);
       for (std::size_t i = b; i < e; ++i) {
         const Cell& c = enc.cells[i];
-        for (int k = 0; k < 8; ++k) {
-          cn[8 * i + k] = static_cast<vtkIdType>(pb + part.local[8 * (i - b) + k]);
-        }
-        of[i] = static_cast<vtkIdType>(8 * i);
+        for (int k = 0; k < 8; ++k) set_id(cn32, cn64, 8 * i + k, pb + part.local[8 * (i - b) + k]);
+        set_id(of32, of64, i, 8 * i);
         ty[i] = VTK_VOXEL;
         de[i] = c.depth;
         cl[i] = static_cast<signed char>(c.cls);
@@ -223,7 +237,11 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetData(coords);
   auto cells = vtkSmartPointer<vtkCellArray>::New();
-  cells->SetData(offsets, conn);
+  if (narrow) {
+    cells->SetData(offsets32, conn32);
+  } else {
+    cells->SetData(offsets64, conn64);
+  }
 
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   grid->SetPoints(points);

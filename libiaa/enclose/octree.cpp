@@ -55,22 +55,46 @@ constexpr std::size_t kMinSubtrees = 512;
 constexpr std::size_t kMaxSubtrees = std::size_t{1} << 15;
 constexpr int kMaxSubtreeDepth = 5;
 
-/// Open-addressing map from a cell corner (integer coordinates on the grid of the deepest cells)
-/// to the proved sign of f there: +1 (certainly > 0), -1 (certainly < 0) or 0 (not proved). One
-/// per subtree, so that what is evaluated does not depend on the thread count; subtrees are kept
-/// small enough for their cache to stay in the processor's cache.
+/// Map from a cell corner (integer coordinates on the grid of the deepest cells) to the proved
+/// sign of f there: +1 (certainly > 0), -1 (certainly < 0) or 0 (not proved). One per subtree, so
+/// that what is evaluated does not depend on the thread count. A subtree of at most kDenseSpan
+/// finest cells per axis (the common case: no refinement) uses a dense array of its corners, one
+/// byte each, indexed directly; deeper subtrees (refined possible leaves) use open addressing.
+/// Both hold the same information, so the choice changes the speed only.
 class CornerCache {
  public:
-  CornerCache() : slots_(1024) {}
+  static constexpr std::uint32_t kDenseSpan = 64;
+
+  /// Empties the cache for a subtree whose finest-grid corners lie in [origin, origin + span]^3.
+  void reset(const std::array<std::uint32_t, 3>& origin, std::uint32_t span) {
+    origin_ = origin;
+    dense_ = span <= kDenseSpan;
+    if (dense_) {
+      side_ = span + 1;
+      dense_signs_.assign(std::size_t{side_} * side_ * side_, kUnknown);
+      return;
+    }
+    slots_.assign(1024, Slot{});
+    used_ = 0;
+  }
 
   /// The sign of corner (x, y, z) if it is there, else null.
   const std::int8_t* find(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    if (dense_) {
+      const std::int8_t* s = &dense_signs_[dense_index(x, y, z)];
+      return *s == kUnknown ? nullptr : s;
+    }
     const Slot* s = probe(x, y, z);
     return s->x == kEmpty ? nullptr : &s->sign;
   }
 
   /// Returns the sign slot of corner (x, y, z); `*found` tells whether it was already there.
   std::int8_t* find_or_insert(std::uint32_t x, std::uint32_t y, std::uint32_t z, bool* found) {
+    if (dense_) {
+      std::int8_t* s = &dense_signs_[dense_index(x, y, z)];
+      *found = *s != kUnknown;
+      return s;
+    }
     if (2 * (used_ + 1) > slots_.size()) grow();
     Slot* s = probe(x, y, z);
     *found = s->x != kEmpty;
@@ -85,10 +109,15 @@ class CornerCache {
 
  private:
   static constexpr std::uint32_t kEmpty = 0xffffffffu;  // keys are at most 2^29
+  static constexpr std::int8_t kUnknown = 2;            // not a sign: not evaluated yet
   struct Slot {
     std::uint32_t x = kEmpty, y = 0, z = 0;
     std::int8_t sign = 0;
   };
+
+  std::size_t dense_index(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
+    return (std::size_t{z - origin_[2]} * side_ + (y - origin_[1])) * side_ + (x - origin_[0]);
+  }
 
   Slot* probe(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
     std::uint64_t h =
@@ -108,6 +137,10 @@ class CornerCache {
     }
   }
 
+  bool dense_ = false;
+  std::array<std::uint32_t, 3> origin_{};
+  std::uint32_t side_ = 0;
+  std::vector<std::int8_t> dense_signs_;
   std::vector<Slot> slots_;
   std::size_t used_ = 0;
 };
@@ -135,6 +168,16 @@ struct Shared {
 class SubtreeWorker {
  public:
   explicit SubtreeWorker(Shared& sh) : sh_(sh), ie_(*sh.tape), ge_(*sh.tape) {}
+
+  /// Starts the subtree of cell (idx, d): empties the corner cache, the leaves and the counts, so
+  /// that one worker (and its evaluators) serves many subtrees with the same results as fresh ones.
+  void start(const Index& idx, int d) {
+    const int shift = sh_.max_depth - d;
+    cache_.reset({idx[0] << shift, idx[1] << shift, idx[2] << shift}, std::uint32_t{1} << shift);
+    cells_.clear();
+    evaluations_ = 0;
+    corner_evaluations_ = 0;
+  }
 
   /// Encloses the subtree of cell (idx, d). `parent`, when given, is the mean-value expansion of
   /// f over the parent cell, on which f is defined everywhere (no partial domain). Its centre is a
@@ -448,13 +491,14 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
     exec.run([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const auto& r) {
         RoundingScope scope;
+        SubtreeWorker w(sh);
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
           if (phase.cancelled()) sh.cancelled.store(true, std::memory_order_relaxed);
           if (sh.cancelled.load(std::memory_order_relaxed) ||
               sh.over_limit.load(std::memory_order_relaxed)) {
             return;
           }
-          SubtreeWorker w(sh);
+          w.start(frontier[i], level);
           w.visit(frontier[i], level, nullptr);
           w.flush();
           parts[i] = std::move(w.cells());
