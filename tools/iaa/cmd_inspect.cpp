@@ -6,7 +6,7 @@
 // multiblock (viz/inspect_vtk.h) with the enclosure boxes and the octree mesh near the pixel.
 #include <unistd.h>
 
-#include <chrono>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -448,6 +448,14 @@ void run(const InspectOptions& o) {
   }
   if (!(o.near >= 0 && o.near <= 1000)) {
     throw SettingError("--near must lie in 0..1000 pixels, got " + num(o.near));
+  }
+  {
+    std::string ext = std::filesystem::path(o.scene).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!ext.empty() && ext != ".toml") {
+      throw Error("'" + o.scene + "': unknown file type '" + ext +
+                  "'; iaa inspect reads a scene file (.toml, see docs/scene-format.md)");
+    }
   }
   const auto px = parse_int_pair(o.pixel, "--pixel");
   std::vector<std::string> sets = o.sets;
