@@ -57,30 +57,36 @@ constexpr int kMaxSubtreeDepth = 5;
 
 /// Map from a cell corner (integer coordinates on the grid of the deepest cells) to the proved
 /// sign of f there: +1 (certainly > 0), -1 (certainly < 0) or 0 (not proved). One per subtree, so
-/// that what is evaluated does not depend on the thread count. A subtree of at most kDenseSpan
-/// finest cells per axis (the common case: no refinement) uses a dense array of its corners, one
-/// byte each, indexed directly; deeper subtrees (refined possible leaves) use open addressing.
-/// Both hold the same information, so the choice changes the speed only.
+/// that what is evaluated does not depend on the thread count. The corners of the leaf depth (all
+/// of them when nothing is refined) live in a dense array, one byte each, indexed directly, as
+/// long as the subtree is at most kDenseSpan leaves wide; the corners of refined cells and of
+/// wider subtrees use open addressing. Both hold the same information: the split changes the speed
+/// only.
 class CornerCache {
  public:
   static constexpr std::uint32_t kDenseSpan = 64;
 
-  /// Empties the cache for a subtree whose finest-grid corners lie in [origin, origin + span]^3.
-  void reset(const std::array<std::uint32_t, 3>& origin, std::uint32_t span) {
+  /// Empties the cache for a subtree whose finest-grid corners lie in [origin, origin + span]^3;
+  /// corners with all coordinates multiples of 2^coarse_shift (those of the leaf depth) are
+  /// stored densely.
+  void reset(const std::array<std::uint32_t, 3>& origin, std::uint32_t span, int coarse_shift) {
     origin_ = origin;
-    dense_ = span <= kDenseSpan;
+    shift_ = coarse_shift;
+    coarse_mask_ = (std::uint32_t{1} << coarse_shift) - 1;
+    dense_ = (span >> coarse_shift) <= kDenseSpan;
     if (dense_) {
-      side_ = span + 1;
+      side_ = (span >> coarse_shift) + 1;
       dense_signs_.assign(std::size_t{side_} * side_ * side_, kUnknown);
-      return;
     }
-    slots_.assign(1024, Slot{});
-    used_ = 0;
+    if (!dense_ || coarse_shift > 0) {
+      slots_.assign(1024, Slot{});
+      used_ = 0;
+    }
   }
 
   /// The sign of corner (x, y, z) if it is there, else null.
   const std::int8_t* find(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    if (dense_) {
+    if (is_dense(x, y, z)) {
       const std::int8_t* s = &dense_signs_[dense_index(x, y, z)];
       return *s == kUnknown ? nullptr : s;
     }
@@ -90,7 +96,7 @@ class CornerCache {
 
   /// Returns the sign slot of corner (x, y, z); `*found` tells whether it was already there.
   std::int8_t* find_or_insert(std::uint32_t x, std::uint32_t y, std::uint32_t z, bool* found) {
-    if (dense_) {
+    if (is_dense(x, y, z)) {
       std::int8_t* s = &dense_signs_[dense_index(x, y, z)];
       *found = *s != kUnknown;
       return s;
@@ -115,8 +121,13 @@ class CornerCache {
     std::int8_t sign = 0;
   };
 
+  bool is_dense(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
+    return dense_ && ((x | y | z) & coarse_mask_) == 0;
+  }
   std::size_t dense_index(std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
-    return (std::size_t{z - origin_[2]} * side_ + (y - origin_[1])) * side_ + (x - origin_[0]);
+    return (std::size_t{(z - origin_[2]) >> shift_} * side_ + ((y - origin_[1]) >> shift_)) *
+               side_ +
+           ((x - origin_[0]) >> shift_);
   }
 
   Slot* probe(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
@@ -138,6 +149,8 @@ class CornerCache {
   }
 
   bool dense_ = false;
+  int shift_ = 0;
+  std::uint32_t coarse_mask_ = 0;
   std::array<std::uint32_t, 3> origin_{};
   std::uint32_t side_ = 0;
   std::vector<std::int8_t> dense_signs_;
@@ -173,7 +186,8 @@ class SubtreeWorker {
   /// that one worker (and its evaluators) serves many subtrees with the same results as fresh ones.
   void start(const Index& idx, int d) {
     const int shift = sh_.max_depth - d;
-    cache_.reset({idx[0] << shift, idx[1] << shift, idx[2] << shift}, std::uint32_t{1} << shift);
+    cache_.reset({idx[0] << shift, idx[1] << shift, idx[2] << shift}, std::uint32_t{1} << shift,
+                 sh_.max_depth - sh_.depth);
     cells_.clear();
     evaluations_ = 0;
     corner_evaluations_ = 0;
