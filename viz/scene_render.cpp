@@ -175,9 +175,9 @@ double default_opacity(LayerRole r) {
     case LayerRole::kFrusta:
       return 0.12;
     case LayerRole::kSlabs:
-      return 0.8;
+      return 0.9;
     case LayerRole::kDepthBoxes:
-      return 0.22;
+      return 0.15;
     case LayerRole::kEnclosure:
       return 0.45;
     default:
@@ -350,7 +350,8 @@ std::vector<Layer> load_layers(const std::string& path, std::optional<ViewCamera
     inspection |= l.role == LayerRole::kSlabs || l.role == LayerRole::kPoints;
   if (inspection) {
     for (Layer& l : layers)
-      l.outline = name_has(l.name, "coarse") || l.role == LayerRole::kEnclosure;
+      l.outline = name_has(l.name, "coarse") || l.role == LayerRole::kEnclosure ||
+                  l.role == LayerRole::kFrusta;
   }
   return layers;
 }
@@ -514,7 +515,7 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
         glyph->SetSourceConnection(arrow->GetOutputPort());
         glyph->SetVectorModeToUseNormal();
         glyph->SetScaleModeToDataScalingOff();
-        glyph->SetScaleFactor(0.5 * focus_r);
+        glyph->SetScaleFactor(0.3 * focus_r);
         glyph->OrientOn();
         vtkNew<vtkPolyDataMapper> gm;
         gm->SetInputConnection(glyph->GetOutputPort());

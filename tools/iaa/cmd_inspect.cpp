@@ -446,6 +446,11 @@ void run(const InspectOptions& o) {
     }
     check_output(o.vtk);
   }
+  if (o.enclose_depth < 0 || o.enclose_depth > EncloseSettings::kMaxDepth) {
+    throw SettingError("--enclose-depth must lie in 0.." +
+                       std::to_string(EncloseSettings::kMaxDepth) + " (0: no enclosure), got " +
+                       std::to_string(o.enclose_depth));
+  }
   if (!(o.near >= 0 && o.near <= 1000)) {
     throw SettingError("--near must lie in 0..1000 pixels, got " + num(o.near));
   }
@@ -559,11 +564,11 @@ void setup(CLI::App& app) {
       "above it, then its beams), so its colour and certificate are those of `iaa render` with\n"
       "the same options.\n\n"
       "Examples:\n"
-      "  iaa inspect data/scenes/teardrop.toml --pixel 258,250\n"
-      "  iaa inspect data/scenes/teardrop.toml --pixel 258,250 --json > neck.json\n"
-      "  iaa inspect data/scenes/teardrop.toml --pixel 258,250 --vtk neck.vtm\n"
+      "  iaa inspect data/scenes/teardrop.toml --pixel 256,250\n"
+      "  iaa inspect data/scenes/teardrop.toml --pixel 256,250 --json > neck.json\n"
+      "  iaa inspect data/scenes/teardrop.toml --pixel 256,250 --vtk neck.vtm\n"
       "  iaa-viz neck.vtm -o neck.png\n"
-      "  iaa inspect data/scenes/teardrop.toml --pixel 258,250 --method point\n"
+      "  iaa inspect data/scenes/teardrop.toml --pixel 256,250 --method point\n"
       "  iaa inspect data/scenes/chubs.toml --pixel 100,120 --max-level 3 --threshold 0.5\n"
       "See docs/inspect.md.");
   app.callback([o] { run(*o); });

@@ -36,7 +36,7 @@ void run_files(const FilesOptions& o) {
 
 const char* kFooter =
     "Examples:\n"
-    "  iaa inspect data/scenes/teardrop.toml --pixel 262,231 --vtk neck.vtm\n"
+    "  iaa inspect data/scenes/teardrop.toml --pixel 256,250 --vtk neck.vtm\n"
     "  iaa-viz neck.vtm -o neck.png                  # beams, hit slabs, depth boxes\n"
     "  iaa-viz teardrop.vtu mesh.ply -o both.png --camera auto --size 1024x768\n"
     "  iaa-viz boxes.vtu --camera 2,1,3:0,0,0:0,1,0 --fov 30 -o boxes.png\n"
