@@ -326,6 +326,7 @@ nlohmann::json to_json(const Scene& scene, const std::string& path, const Render
   return j;
 }
 
+#ifdef IAA_HAVE_VIZ
 // ---- What lies near the pixel ---------------------------------------------------------------
 
 /// Screen rectangle of a pixel widened by `near` pixels, and a test of whether points project
@@ -415,6 +416,8 @@ Nearby nearby(const Scene& scene, const InspectOptions& o, int x, int y) {
   }
   return n;
 }
+
+#endif  // IAA_HAVE_VIZ
 
 // ---- The command ------------------------------------------------------------------------------
 
