@@ -71,7 +71,7 @@ struct BeamArrays {
     beam->InsertNextValue(index);
     decision->InsertNextValue(static_cast<int>(b.decision));
     t_near->InsertNextValue(b.result == BeamResult::kMiss ? kNaN : b.t_near);
-    t_far->InsertNextValue(b.result == BeamResult::kMiss ? kNaN : b.t_far);
+    t_far->InsertNextValue(b.result == BeamResult::kFull ? b.t_far : kNaN);
   }
   void attach(vtkDataSet* d) const {
     vtkCellData* cd = d->GetCellData();

@@ -4,9 +4,9 @@
 // Blocks (names are what iaa-viz keys its roles, colours and legend on, viz/scene_render.h):
 // - `beams`: one pyramid per sub-beam of the pixel (level >= 0), apex at the eye, base at the far
 //   end of the scene bounds. Cell arrays `result` (0 miss, 1 full, 2 partial), `level`, `beam`
-//   (index into the trace / the JSON of `iaa inspect`), `decision` (BeamDecision), `t_near`,
-//   `t_far`. When the pixel was decided by a screen block above it (a Miss block), that block's
-//   beam is shown instead.
+//   (index into the trace / the JSON of `iaa inspect`), `decision` (BeamDecision), `t_near`
+//   (NaN for a Miss), `t_far` (Full only, else NaN). When the pixel was decided by a screen block
+//   above it (a Miss block), that block's beam is shown instead.
 // - `hit_slabs`: for every beam that was shaded (a leaf of the pixel's quadtree), the piece of
 //   its frustum where its first hits lie: [t_near, t_far] for a Full beam, the kept depth piece
 //   [t_near, ...] for a Partial one. Hexahedra with the same cell arrays as `beams`.

@@ -210,8 +210,16 @@ void print_tree(const Scene& scene, const RenderSettings& st, const PixelTrace& 
       std::printf("miss, background %s\n", hex_color(ray.color).c_str());
     }
   }
-  std::printf("pixel colour %s (linear %s): the area-weighted mean of its parts\n",
-              hex_color(colour).c_str(), vec_text(colour).c_str());
+  const char* how = "the area-weighted mean of its parts";
+  if (r.certificate == PixelCertificate::kEmpty) {
+    how = "certified background";
+  } else if (st.method == RenderMethod::kPoint || st.method == RenderMethod::kGrid) {
+    how = "the mean of its rays";
+  } else if (st.method == RenderMethod::kAdaptive) {
+    how = "the area-weighted mean of its squares' corner-ray colours";
+  }
+  std::printf("pixel colour %s (linear %s): %s\n", hex_color(colour).c_str(),
+              vec_text(colour).c_str(), how);
 }
 
 // ---- JSON ----------------------------------------------------------------------------------
@@ -286,7 +294,8 @@ nlohmann::json to_json(const Scene& scene, const std::string& path, const Render
     jb["result"] = beam_result_name(b.result);
     if (b.result != BeamResult::kMiss) {
       jb["t_near"] = jnum(b.t_near);
-      jb["t_far"] = jnum(b.t_far);
+      // Only a Full beam has a t_far (every ray hits by then); a Partial one searched to its end.
+      if (b.result == BeamResult::kFull) jb["t_far"] = jnum(b.t_far);
       jb["hit_box"] = jbox(b.hit_box);
     }
     jb["full_reason"] = b.full_reason;

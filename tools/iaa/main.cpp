@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
       "Examples:\n"
       "  iaa eval 'x^2 + y^2 + z^2 - 1' --box -1:1,0:1,0.5:0.6\n"
       "  iaa render data/scenes/teardrop.toml -o teardrop.png\n"
+      "  iaa inspect data/scenes/teardrop.toml --pixel 256,250\n"
       "Run 'iaa COMMAND --help' for the options of one command.");
   auto& cmds = commands();
   std::sort(cmds.begin(), cmds.end(),
