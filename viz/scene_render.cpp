@@ -496,7 +496,9 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
       a->GetProperty()->SetPointSize(11);
       a->GetProperty()->SetColor(0.1, 0.1, 0.1);
       vtkDataArray* col = l.data->GetPointData()->GetArray("color");
-      if (col && col->GetNumberOfComponents() == 3 && vtkUnsignedCharArray::SafeDownCast(col)) {
+      const bool coloured =
+          col && col->GetNumberOfComponents() == 3 && vtkUnsignedCharArray::SafeDownCast(col);
+      if (coloured) {
         m->SetScalarModeToUsePointFieldData();
         m->SelectColorArray("color");
         m->SetColorModeToDirectScalars();
@@ -505,7 +507,9 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
         m->ScalarVisibilityOff();
       }
       ren->AddActor(a);
-      add_legend("hit point", {0.1, 0.1, 0.1});
+      // Legend text is drawn in the entry's colour on a dark box: black would not show.
+      add_legend(coloured ? "hit point (in its shaded colour)" : "hit point (black)",
+                 {0.85, 0.85, 0.85});
       if (l.data->GetPointData()->GetNormals()) {
         vtkNew<vtkArrowSource> arrow;
         arrow->SetTipResolution(16);
@@ -524,7 +528,7 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
         ga->SetMapper(gm);
         ga->GetProperty()->SetColor(0.05, 0.05, 0.05);
         ren->AddActor(ga);
-        add_legend("normal at hit", {0.05, 0.05, 0.05});
+        add_legend("normal at hit (black arrow)", {0.85, 0.85, 0.85});
       }
       continue;
     }
@@ -557,7 +561,7 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
       mapper->ScalarVisibilityOn();
       const std::string prefix =
           std::string(l.outline && l.role == LayerRole::kDepthBoxes ? "coarse " : "") +
-          role_label(l.role) + (l.outline ? " (outline)" : "");
+          role_label(l.role);
       const std::set<int> present = codes_in(l.data, array);
       for (const Category& c : categories_of(array)) {
         if (present.count(c.code)) {
@@ -600,6 +604,9 @@ std::vector<LegendEntry> build_scene(vtkRenderer* ren, const std::vector<Layer>&
       case LayerRole::kMesh:
         p->SetSpecular(0.25);
         p->SetSpecularPower(30);
+        // Some light on faces seen at a grazing angle (a pixel's beam is looked at from its side).
+        p->SetAmbient(0.3);
+        p->SetDiffuse(0.75);
         if (pd && pd->GetNumberOfPolys() > 0 && pd->GetNumberOfPolys() < 6000) {
           p->SetEdgeVisibility(true);
           p->SetEdgeColor(0.5, 0.5, 0.56);
@@ -689,7 +696,7 @@ void setup_stage(Stage& s, const std::vector<Layer>& layers, const ViewSettings&
     s.legend->GetProperty()->SetColor(0.3, 0.3, 0.3);
     // Top right; its size in pixels converted to viewport units, so text keeps its size.
     const double h = std::min(0.9, (20.0 * static_cast<double>(entries.size()) + 10) / v.height);
-    const double w = std::min(0.6, 230.0 / view_w);
+    const double w = std::min(0.6, 270.0 / view_w);
     s.legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
     s.legend->GetPositionCoordinate()->SetValue(0.99 - w, 0.99 - h);
     s.legend->GetPosition2Coordinate()->SetValue(w, h);
