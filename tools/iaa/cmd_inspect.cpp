@@ -499,14 +499,8 @@ void run(const InspectOptions& o) {
   PixelTrace trace;
   const PixelResult r = render_pixel(scene, st, x, y, &trace);
 
-  if (o.json) {
-    nlohmann::json j = to_json(scene, o.scene, st, trace, r);
-    if (!o.vtk.empty()) j["vtk"] = o.vtk;
-    std::printf("%s\n", j.dump(1).c_str());
-  } else {
-    print_tree(scene, st, trace, r);
-  }
-
+  // The .vtm first: when it cannot be written, nothing is printed either.
+  std::string wrote;
 #ifdef IAA_HAVE_VIZ
   if (!o.vtk.empty()) {
     viz::InspectionInput in;
@@ -521,23 +515,27 @@ void run(const InspectOptions& o) {
       if (n.have_mesh) in.mesh = &n.mesh;
     }
     viz::write_vtm_atomically(o.vtk, viz::inspection_to_multiblock(in));
-    if (!o.json) {
-      std::printf("wrote %s", o.vtk.c_str());
-      if (o.enclose_depth > 0) {
-        std::printf(" with %zu of %llu enclosure boxes (depth %d) and ", n.enclosure.cells.size(),
-                    static_cast<unsigned long long>(n.all_cells), o.enclose_depth);
-        if (n.have_mesh) {
-          std::printf("%zu of %llu mesh triangles", n.mesh.triangles.size(),
-                      static_cast<unsigned long long>(n.all_triangles));
-        } else {
-          std::printf("no mesh");
-        }
-        std::printf(" within %s pixels of the pixel", num(o.near).c_str());
-      }
-      std::printf("\n");
+    wrote = "wrote " + o.vtk;
+    if (o.enclose_depth > 0) {
+      wrote += " with " + std::to_string(n.enclosure.cells.size()) + " of " +
+               std::to_string(n.all_cells) + " enclosure boxes (depth " +
+               std::to_string(o.enclose_depth) + ") and " +
+               (n.have_mesh ? std::to_string(n.mesh.triangles.size()) + " of " +
+                                  std::to_string(n.all_triangles) + " mesh triangles"
+                            : std::string("no mesh")) +
+               " within " + num(o.near) + " pixels of the pixel";
     }
   }
 #endif
+
+  if (o.json) {
+    nlohmann::json j = to_json(scene, o.scene, st, trace, r);
+    if (!o.vtk.empty()) j["vtk"] = o.vtk;
+    std::printf("%s\n", j.dump(1).c_str());
+  } else {
+    print_tree(scene, st, trace, r);
+  }
+  if (!o.json && !wrote.empty()) std::printf("%s\n", wrote.c_str());
 }
 
 void setup(CLI::App& app) {
