@@ -78,6 +78,13 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
       bool gpartial = false;
       const IGrad g = ctx.eval_grad(box, &gpartial);
       const Interval fp = dot(g.g, dir);
+      if (!gpartial && fp.contains_zero()) {
+        // Mean-value form G(m) + G'([a, b]) ([a, b] - m): near a grazing ray f stays small but
+        // positive over long stretches, where the natural enclosure keeps pieces only through
+        // overestimation and bisection would exclude them one tolerance at a time.
+        const Interval mv = ctx.eval(segment_box(o, dir, Interval(m))) + fp * (Interval(a, b) - m);
+        if (!mv.contains_zero()) continue;
+      }
       if (!gpartial && !fp.contains_zero()) {
         double lo = a, hi = b;
         bool proved = false, excluded = false;

@@ -34,6 +34,9 @@ constexpr int kRootBlock = 32;
 constexpr int kMinBlock = 2;
 /// How far behind t_near (in beam widths) a Partial beam's central ray is searched for shading.
 constexpr double kPartialShadeReach = 8.0;
+/// Depth tolerance of the central ray of an IAA part, in footprints of the part (its lateral
+/// width at the depth): where it is shaded, not whether it is covered.
+constexpr double kShadeTolerance = 1.0 / 64;
 
 bool may_be_partial(const Tape& tape) {
   for (const Instr& in : tape.instrs()) {
@@ -218,8 +221,12 @@ class Renderer {
         kPartialShadeReach * su_.frame.scale * std::max(rect.width(), rect.height()) * s.t_near;
     const Interval sr(
         s.t_near, s.result == BeamResult::kFull ? s.t_far : std::min(range.hi(), s.t_near + reach));
-    const RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, su_.ray_tol,
-                                su_.frame.scale * sr.hi() * 4);
+    // The shading point needs a fraction of the part's footprint, not the baselines' 1e-9: near
+    // grazing rays a fine tolerance costs thousands of evaluations for no visible difference.
+    const double foot = su_.frame.scale * std::max(rect.width(), rect.height()) * sr.lo();
+    const RayHit h =
+        search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr,
+                   std::max(su_.ray_tol, kShadeTolerance * foot), su_.frame.scale * sr.hi() * 4);
     Vec3 p, g;
     if (h.hit) {
       p = su_.frame.eye + h.t.mid() * d;
