@@ -140,6 +140,7 @@ class Renderer {
 
   PixelResult iaa_pixel(int x, int y, Interval range, const BeamSearch* pfull, PixelTrace* tr) {
     IaaAccum acc;
+    shadow_cache_.clear(0);
     const int parent = tr && !tr->beams.empty() ? static_cast<int>(tr->beams.size()) - 1 : -1;
     iaa_beam(PixelRect{double(x), double(y), double(x + 1), double(y + 1)}, 0, range, pfull, acc,
              tr, parent);
@@ -239,7 +240,9 @@ class Renderer {
       g = interval_mid_gradient(s.hit_box);
     }
     Vec3 n;
-    const Vec3 c = shade(ctx_, p, g, d, &n);
+    // Leaves of this pixel within a pixel's footprint of each other share shadow searches.
+    shadow_cache_.radius = su_.frame.scale * s.t_near;
+    const Vec3 c = shade(ctx_, p, g, d, &n, &shadow_cache_);
     if (t) {
       t->center_ray_hit = h.hit;
       t->point = p;
@@ -411,6 +414,7 @@ class Renderer {
   RenderContext& ctx_;
   const RenderSetup& su_;
   const RenderSettings& st_;
+  ShadowCache shadow_cache_;  ///< shadow results of the current IAA pixel
 };
 
 /// Window of the render: the settings' window or the whole image.

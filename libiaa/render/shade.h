@@ -2,15 +2,39 @@
 // with the guaranteed 1D search (a shadow is cast wherever the surface may lie on the way).
 #pragma once
 
+#include <cstdint>
+
 #include "core/vec.h"
 #include "render/context.h"
 
 namespace iaa {
 
+/// Shadow-ray results of the shading points of one pixel, reused by nearby points of it. The IAA
+/// leaves of a pixel are shaded at points a fraction of a pixel apart; one guaranteed shadow
+/// search per cluster of such points (within `radius` of the point that was tested, normals
+/// within ~18 degrees) gives shadows at pixel resolution instead of per leaf, at a fraction of
+/// the cost. Clear it per pixel: the result then does not depend on threads or tiles.
+struct ShadowCache {
+  static constexpr int kSize = 8;
+  struct Entry {
+    Vec3 p, n;
+    std::uint32_t tested = 0;  ///< lights whose shadow ray was searched from p
+    std::uint32_t lit = 0;     ///< of those, the ones found unoccluded
+  };
+  Entry entries[kSize];
+  int count = 0;
+  double radius = 0;  ///< reuse distance (world units)
+  void clear(double r) {
+    count = 0;
+    radius = r;
+  }
+};
+
 /// Colour (linear RGB) of the surface at `p` with gradient `grad`, seen along `view_dir`.
 /// The normal is turned toward the eye (surfaces are two-sided). Needs a RoundingScope.
+/// With `cache`, shadow results of a nearby point of the same pixel are reused (ShadowCache).
 Vec3 shade(RenderContext& ctx, const Vec3& p, const Vec3& grad, const Vec3& view_dir,
-           Vec3* normal_out = nullptr);
+           Vec3* normal_out = nullptr, ShadowCache* cache = nullptr);
 
 /// The scene's background colour.
 inline Vec3 background(const RenderContext& ctx) {
