@@ -37,6 +37,8 @@ constexpr double kPartialShadeReach = 8.0;
 /// Depth tolerance of the central ray of an IAA part, in footprints of the part (its lateral
 /// width at the depth): where it is shaded, not whether it is covered.
 constexpr double kShadeTolerance = 1.0 / 64;
+/// Share of a Partial part's area shown as surface when its central ray finds no surface at all.
+constexpr double kPartialMissWeight = 0.25;
 
 bool may_be_partial(const Tape& tape) {
   for (const Instr& in : tape.instrs()) {
@@ -176,9 +178,10 @@ class Renderer {
         }
       }
       if (shade_now) {
-        const Vec3 c = shade_beam(rect, s, range, t);
-        acc.color = acc.color + area * c;
-        acc.coverage += area;
+        double w = 1.0;
+        const Vec3 c = shade_beam(rect, s, range, t, &w);
+        acc.color = acc.color + area * (w * c + (1.0 - w) * background(ctx_));
+        acc.coverage += area * w;
         ++acc.leaves;
         if (s.result == BeamResult::kFull) {
           acc.any_full = true;
@@ -211,7 +214,8 @@ class Renderer {
 
   /// Shades a beam part: at the exact hit of its central ray when there is one, else at the
   /// centre of the hit box with the mid-point normal of the interval gradient.
-  Vec3 shade_beam(const PixelRect& rect, const BeamSearch& s, Interval range, BeamTrace* t) {
+  Vec3 shade_beam(const PixelRect& rect, const BeamSearch& s, Interval range, BeamTrace* t,
+                  double* weight) {
     const double uc = 0.5 * (rect.u0 + rect.u1), vc = 0.5 * (rect.v0 + rect.v1);
     const Vec3 d = su_.frame.dir(uc, vc);
     // Full: the central ray certainly hits in [t_near, t_far]. Partial: look for its hit only a
@@ -225,9 +229,21 @@ class Renderer {
     // The shading point needs a fraction of the part's footprint, not the baselines' 1e-9: near
     // grazing rays a fine tolerance costs thousands of evaluations for no visible difference.
     const double foot = su_.frame.scale * std::max(rect.width(), rect.height()) * sr.lo();
-    const RayHit h =
-        search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr,
-                   std::max(su_.ray_tol, kShadeTolerance * foot), su_.frame.scale * sr.hi() * 4);
+    const double shade_tol = std::max(su_.ray_tol, kShadeTolerance * foot);
+    RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, shade_tol,
+                          su_.frame.scale * sr.hi() * 4);
+    *weight = 1.0;
+    if (!h.hit && s.result == BeamResult::kPartial) {
+      // A Partial part whose central ray misses the surface near t_near: that ray either sees a
+      // surface further back (shade it there) or none at all. Then the part is most likely a
+      // sliver of a silhouette or of a thin feature: it is shown with weight kPartialMissWeight
+      // over the background, never dropped (its coverage stays > 0).
+      if (sr.hi() < range.hi()) {
+        h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc),
+                       Interval(sr.hi(), range.hi()), shade_tol, su_.frame.scale * range.hi() * 4);
+      }
+      if (!h.hit) *weight = kPartialMissWeight;
+    }
     Vec3 p, g;
     if (h.hit) {
       p = su_.frame.eye + h.t.mid() * d;
