@@ -179,8 +179,12 @@ class Renderer {
       }
       if (shade_now) {
         double w = 1.0;
-        const Vec3 c = shade_beam(rect, s, range, t, &w);
-        acc.color = acc.color + area * (w * c + (1.0 - w) * background(ctx_));
+        const Vec3 c = w_blend(shade_beam(rect, s, range, t, &w), w);
+        if (t) {
+          t->color = c;
+          t->weight = w;
+        }
+        acc.color = acc.color + area * c;
         acc.coverage += area * w;
         ++acc.leaves;
         if (s.result == BeamResult::kFull) {
@@ -266,6 +270,11 @@ class Renderer {
       t->color = c;
     }
     return c;
+  }
+
+  /// A part's colour shown with weight `w` over the background.
+  Vec3 w_blend(const Vec3& c, double w) const {
+    return w == 1.0 ? c : w * c + (1.0 - w) * background(ctx_);
   }
 
   Vec3 interval_mid_gradient(const IBox& box) {

@@ -119,7 +119,7 @@ TEST(InspectTrace, IaaTraceAccountsForColourCoverageAndLeaves) {
         }
         sum = sum + b.rect.area() * b.color;
         area += b.rect.area();
-        covered += b.rect.area();
+        covered += b.rect.area() * b.weight;  // Partial slivers are shown at a weight < 1
         ++leaves;
       } else {
         EXPECT_EQ(b.decision, BeamDecision::kSplit);
