@@ -11,12 +11,12 @@
 #include <vtkSampleFunction.h>
 
 #include <atomic>
-#include <cfenv>
 #include <cmath>
 #include <memory>
 #include <string>
 
 #include "core/error.h"
+#include "core/interval.h"
 #include "expr/eval_point.h"
 #include "expr/eval_point_grad.h"
 
@@ -74,8 +74,7 @@ vtkStandardNewMacro(TapeFunction);
 
 TriangleSoup mesh_vtk(const Tape& tape, const VtkMeshSettings& s, const Exec& exec) {
   s.validate();
-  const int saved = std::fegetround();
-  std::fesetround(FE_TONEAREST);
+  NearestScope nearest;
   vtkNew<TapeFunction> fn;
   static std::atomic<std::uint64_t> next_run{1};
   fn->tape = &tape;
@@ -128,7 +127,6 @@ TriangleSoup mesh_vtk(const Tape& tape, const VtkMeshSettings& s, const Exec& ex
   if (agree < 0) {
     for (auto& t : soup.triangles) std::swap(t[1], t[2]);
   }
-  std::fesetround(saved);
   return soup;
 }
 

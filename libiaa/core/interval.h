@@ -57,6 +57,21 @@ class RoundingScope {
   int saved_;
 };
 
+/// RAII guard that switches the current thread's FPU to round to nearest and restores the previous
+/// mode when it goes out of scope: for point geometry (mesh vertices, areas, ray casts) that must
+/// give the same doubles whatever mode the caller's thread is in. No Interval operation may run
+/// inside it (interval.h's bounds rely on upward rounding).
+class NearestScope {
+ public:
+  NearestScope() : saved_(std::fegetround()) { std::fesetround(FE_TONEAREST); }
+  ~NearestScope() { std::fesetround(saved_); }
+  NearestScope(const NearestScope&) = delete;
+  NearestScope& operator=(const NearestScope&) = delete;
+
+ private:
+  int saved_;
+};
+
 /// True when the current thread rounds upward, i.e. a RoundingScope is alive.
 inline bool rounding_is_upward() {
   return std::fegetround() == FE_UPWARD;

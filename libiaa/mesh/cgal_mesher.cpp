@@ -10,13 +10,13 @@
 #include <CGAL/make_mesh_3.h>
 
 #include <atomic>
-#include <cfenv>
 #include <cmath>
 #include <memory>
 #include <string>
 #include <unordered_map>
 
 #include "core/error.h"
+#include "core/interval.h"
 #include "expr/eval_point.h"
 #include "expr/eval_point_grad.h"
 
@@ -127,8 +127,7 @@ bool SizeField::on_surface(const Point& p) const {
 TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& exec,
                        CgalMeshStats* stats) {
   s.validate();
-  const int saved = std::fegetround();
-  std::fesetround(FE_TONEAREST);
+  NearestScope nearest;
   const std::uint64_t run = g_next_run++;
   const Box3& b = s.bounds;
   const Vec3 c = b.center(), half = 0.5 * b.size();
@@ -196,7 +195,6 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
     stats->facets = facets;
     stats->bound_facets = on_bounds;
   }
-  std::fesetround(saved);
   return soup;
 }
 

@@ -7,11 +7,11 @@
 #include <CGAL/Simple_cartesian.h>
 #include <tbb/parallel_for.h>
 
-#include <cfenv>
 #include <cmath>
 #include <string>
 
 #include "core/error.h"
+#include "core/interval.h"
 #include "render/camera.h"
 
 namespace iaa {
@@ -61,8 +61,7 @@ MeshView view_mesh(const TriangleSoup& mesh, const Scene& scene, int n, const Ex
   if (n < 1 || n > 16) {
     throw SettingError("rays per pixel side must be in 1..16, got " + std::to_string(n));
   }
-  const int saved = std::fegetround();
-  std::fesetround(FE_TONEAREST);
+  NearestScope nearest;
   const CameraFrame frame(scene.camera, scene.width, scene.height);
   MeshView view;
   view.width = scene.width;
@@ -77,8 +76,7 @@ MeshView view_mesh(const TriangleSoup& mesh, const Scene& scene, int n, const Ex
   ProgressPhase phase(exec.progress, "compare: cast mesh", std::uint64_t(view.height));
   exec.run([&] {
     tbb::parallel_for(0, view.height, [&](int y) {
-      const int saved_inner = std::fegetround();
-      std::fesetround(FE_TONEAREST);
+      NearestScope nearest_here;  // TBB threads have their own FPU state
       for (int x = 0; x < view.width; ++x) {
         const std::size_t i = std::size_t(y) * std::size_t(view.width) + std::size_t(x);
         if (far <= 0) continue;
@@ -96,11 +94,9 @@ MeshView view_mesh(const TriangleSoup& mesh, const Scene& scene, int n, const Ex
         }
         view.coverage[i] = float(hit) / float(n * n);
       }
-      std::fesetround(saved_inner);
       phase.advance(1);
     });
   });
-  std::fesetround(saved);
   return view;
 }
 

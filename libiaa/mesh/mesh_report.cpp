@@ -2,12 +2,12 @@
 #include "mesh/mesh_report.h"
 
 #include <algorithm>
-#include <cfenv>
 #include <cmath>
 #include <numeric>
 #include <vector>
 
 #include "core/error.h"
+#include "core/interval.h"
 #include "expr/eval_point.h"
 
 namespace iaa {
@@ -97,8 +97,7 @@ MeshReport analyze_mesh(const TriangleSoup& mesh, const Tape* tape, const Enclos
   r.euler = std::int64_t(r.vertices) - std::int64_t(r.edges) + std::int64_t(r.triangles);
 
   // Area and signed volume in round-to-nearest, whatever the caller's rounding mode.
-  const int saved = std::fegetround();
-  std::fesetround(FE_TONEAREST);
+  NearestScope nearest;
   for (const auto& t : mesh.triangles) {
     const Vec3 a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
     r.area += 0.5 * length(cross(b - a, c - a));
@@ -161,7 +160,6 @@ MeshReport analyze_mesh(const TriangleSoup& mesh, const Tape* tape, const Enclos
     }
     r.outside_enclosure = outside;
   }
-  std::fesetround(saved);
   return r;
 }
 

@@ -10,7 +10,6 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
-#include <cfenv>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -48,19 +47,6 @@ constexpr U64 kCentreFlag = U64{1} << 63;
 constexpr std::size_t kChunk = 512;
 
 using IPoint = std::array<U64, 3>;
-
-// Round-to-nearest for point geometry: grid coordinates must be the same doubles wherever they are
-// computed, whatever rounding mode the caller's thread is in.
-class NearestScope {
- public:
-  NearestScope() : saved_(std::fegetround()) { std::fesetround(FE_TONEAREST); }
-  ~NearestScope() { std::fesetround(saved_); }
-  NearestScope(const NearestScope&) = delete;
-  NearestScope& operator=(const NearestScope&) = delete;
-
- private:
-  int saved_;
-};
 
 // Key of a grid point for the array of `axis`: the two other coordinates, then the one along axis.
 inline U64 line_key(int axis, const IPoint& p) {

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -61,20 +60,6 @@ std::string brief(double v) {
   return b;
 }
 
-double to_number(const std::string& s, const std::string& what) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(s, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used == 0 || used != s.size() || !std::isfinite(v)) {
-    throw Error(what + ": '" + s + "' is not a finite number");
-  }
-  return v;
-}
-
 Params parse_params(const std::vector<std::string>& items) {
   Params p;
   for (const std::string& item : items) {
@@ -82,36 +67,21 @@ Params parse_params(const std::vector<std::string>& items) {
     if (eq == std::string::npos || eq == 0) {
       throw Error("--param: expected NAME=VALUE, got '" + item + "'");
     }
-    p[item.substr(0, eq)] = to_number(item.substr(eq + 1), "--param " + item.substr(0, eq));
+    p[item.substr(0, eq)] = parse_double(item.substr(eq + 1), "--param " + item.substr(0, eq));
   }
   return p;
 }
 
-/// Parses X0:X1,Y0:Y1,Z0:Z1; an empty or inverted range is an error.
+/// Parses X0:X1,Y0:Y1,Z0:Z1 (command.h's parse_box); an empty range is an error too, since a box
+/// to enclose in must have volume.
 Box3 parse_bounds(const std::string& text) {
   static const char* kAxis[3] = {"x", "y", "z"};
-  std::stringstream ss(text);
-  std::string range;
-  Box3 box;
-  int i = 0;
-  while (std::getline(ss, range, ',')) {
-    if (i == 3) break;
-    const auto colon = range.find(':', 1);
-    if (colon == std::string::npos) {
-      throw Error(std::string("--bounds: the ") + kAxis[i] + " range must be LO:HI, got '" + range +
-                  "'");
+  const Box3 box = parse_box(text, "--bounds");
+  for (int i = 0; i < 3; ++i) {
+    if (box.lo[i] == box.hi[i]) {
+      throw Error(std::string("--bounds: the ") + kAxis[i] + " range " + fmt(box.lo[i]) + ":" +
+                  fmt(box.hi[i]) + " is empty; write LO:HI with LO < HI");
     }
-    const std::string what = std::string("--bounds (") + kAxis[i] + ")";
-    box.lo[i] = to_number(range.substr(0, colon), what);
-    box.hi[i] = to_number(range.substr(colon + 1), what);
-    if (!(box.lo[i] < box.hi[i])) {
-      throw Error(std::string("--bounds: the ") + kAxis[i] + " range " + range + " is " +
-                  (box.lo[i] == box.hi[i] ? "empty" : "inverted") + "; write LO:HI with LO < HI");
-    }
-    ++i;
-  }
-  if (i != 3 || ss.rdbuf()->in_avail() > 0 || (!text.empty() && text.back() == ',')) {
-    throw Error("--bounds: expected three ranges X0:X1,Y0:Y1,Z0:Z1, got '" + text + "'");
   }
   return box;
 }

@@ -70,8 +70,8 @@ Box3 parse_box(const std::string& text, const std::string& what) {
     const double lo = parse_double(r.substr(0, colon), what + " (" + kAxes[i] + " low)");
     const double hi = parse_double(r.substr(colon + 1), what + " (" + kAxes[i] + " high)");
     if (lo > hi) {
-      throw Error(what + ": the range for " + kAxes[i] + " is inverted (" + r.substr(0, colon) +
-                  " > " + r.substr(colon + 1) + ")");
+      throw Error(what + ": the " + kAxes[i] + " range " + r +
+                  " is inverted; write LO:HI with LO <= HI");
     }
     box.lo[i] = lo;
     box.hi[i] = hi;
