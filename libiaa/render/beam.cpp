@@ -27,15 +27,19 @@ constexpr int kInheritRefine = 1;
 /// Mean-value form of F over a box: F(c) + sum_i dF/dx_i(box) (box_i - c_i), c the centre.
 /// Valid where f is Lipschitz on the box (the interval gradient contains the generalized
 /// gradients at kinks); the whole line when the gradient meets a partial domain.
-Interval mean_value_form(RenderContext& ctx, const IBox& box) {
-  bool gpartial = false;
-  const IGrad g = ctx.eval_grad(box, &gpartial);
-  if (gpartial) return Interval::whole();
+Interval mean_value_form(RenderContext& ctx, const IBox& box, const IGrad& g) {
   IBox c;
   for (int i = 0; i < 3; ++i) c[i] = Interval(box[i].mid());
   Interval f = ctx.eval(c);
   for (int i = 0; i < 3; ++i) f += g.g[static_cast<std::size_t>(i)] * (box[i] - c[i]);
   return intersect(f, g.v);
+}
+
+Interval mean_value_form(RenderContext& ctx, const IBox& box) {
+  bool gpartial = false;
+  const IGrad g = ctx.eval_grad(box, &gpartial);
+  if (gpartial) return Interval::whole();
+  return mean_value_form(ctx, box, g);
 }
 
 /// Sign of F on the (unclipped) slice of the beam at depth t: +1 / -1 when proved with intervals
@@ -44,9 +48,16 @@ int slice_sign(RenderContext& ctx, const IBox& dirs, double t) {
   const IBox slice = segment_box(ctx.setup.frame.eye, dirs, Interval(t));
   if (!box_inside(slice, ctx.bounds())) return kOutside;
   bool partial = false;
-  Interval f = ctx.eval(slice, &partial);
+  IGrad g;
+  const bool have_grad = ctx.mv.gradient_first(MeanValueBudget::kSlice);
+  if (have_grad) g = ctx.eval_grad(slice, &partial);
+  Interval f = have_grad ? g.v : ctx.eval(slice, &partial);
   if (partial) return 0;
-  if (f.contains_zero()) f = mean_value_form(ctx, slice);
+  ctx.mv.record_natural(MeanValueBudget::kSlice, !f.contains_zero());
+  if (f.contains_zero() && ctx.mv.allowed()) {
+    f = have_grad ? mean_value_form(ctx, slice, g) : mean_value_form(ctx, slice);
+    ctx.mv.record(!f.contains_zero());
+  }
   return f.certainly_positive() ? 1 : (f.certainly_negative() ? -1 : 0);
 }
 
@@ -117,18 +128,26 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
         trace->pieces.push_back({Interval(a, b), box, Interval::empty(), false, false, false});
       continue;
     }
-    bool partial = false;
-    const Interval f = ctx.eval(box, &partial);
-    const bool kept = !f.is_empty() && f.contains_zero();
-    if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial, false});
-    if (!kept) continue;
     const double m = 0.5 * (a + b);
     const double tol = std::max(abs_floor, tol_factor * lateral * b);
+    const bool narrow = b - a <= kMeanValueWidth * tol;
+    // Where the natural enclosure of narrow pieces rarely excludes 0, the gradient evaluation of
+    // the mean-value form comes first: its value part is that same natural enclosure.
+    bool partial = false;
+    IGrad g;
+    const bool have_grad = narrow && ctx.mv.gradient_first(MeanValueBudget::kPiece);
+    if (have_grad) g = ctx.eval_grad(box, &partial);
+    const Interval f = have_grad ? g.v : ctx.eval(box, &partial);
+    const bool kept = !f.is_empty() && f.contains_zero();
+    if (narrow) ctx.mv.record_natural(MeanValueBudget::kPiece, !kept);
+    if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial, false});
+    if (!kept) continue;
     // A piece a few tolerances wide near (but off) the surface often has 0 in its natural
     // enclosure only through overestimation: the sharper mean-value form excludes it at once,
     // where bisection would exclude it one tolerance-sized piece at a time.
-    if (!partial && b - a <= kMeanValueWidth * tol) {
-      const Interval fm = mean_value_form(ctx, box);
+    if (!partial && narrow && ctx.mv.allowed()) {
+      const Interval fm = have_grad ? mean_value_form(ctx, box, g) : mean_value_form(ctx, box);
+      ctx.mv.record(!fm.contains_zero());
       if (trace)
         trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false, true});
       if (!fm.contains_zero()) continue;
@@ -256,19 +275,48 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   return out;
 }
 
-Interval beam_estimator(RenderContext& ctx, const BeamSearch& s) {
-  bool partial = false;
-  const IGrad g = ctx.eval_grad(s.hit_box, &partial);
-  if (partial) return Interval::whole();
+bool tighten_far(RenderContext& ctx, BeamSearch* s, double step) {
+  if (s->result != BeamResult::kFull || !(step > 0)) return false;
+  // Candidates t_near + step 2^k from the front: the first slice with the opposite sign is the
+  // nearest such depth to within a factor 2 (a bisection of [t_near, t_far] would be misled by
+  // a thin feature, behind which the slices have the near sign again).
+  double t_fail = s->t_near, tf = 0;
+  bool found = false;
+  for (int k = 0; k < kFarTries; ++k) {
+    tf = s->t_near + std::ldexp(step, k);
+    if (!(tf < s->t_far)) break;
+    if (slice_sign(ctx, s->dirs, tf) == -s->sign) {
+      found = true;
+      break;
+    }
+    t_fail = tf;
+  }
+  if (!found) return false;
+  for (int r = 0; r < kFarRefine && tf - t_fail > step; ++r) {
+    const double tm = 0.5 * (t_fail + tf);
+    if (slice_sign(ctx, s->dirs, tm) == -s->sign) {
+      tf = tm;
+    } else {
+      t_fail = tm;
+    }
+  }
+  s->t_far = tf;
+  s->hit_box = segment_box(ctx.setup.frame.eye, s->dirs, Interval(s->t_near, tf));
+  return true;
+}
+
+namespace {
+
+/// The estimator's interval of n . d over one box, from its interval gradient `g`.
+Interval unit_dot(const IGrad& g, const IBox& dirs) {
   const Interval n2 = square(g.g[0]) + square(g.g[1]) + square(g.g[2]);
   if (!(n2.lo() > 0.0) || !n2.is_finite()) return Interval::whole();
   // The componentwise interval form: grad F . d / (|grad F| |d|).
   Domain dom = Domain::kFull;
   const Interval inv_n = Interval(1.0) / sqrt(n2, &dom);
-  const Interval d2 = square(s.dirs.x) + square(s.dirs.y) + square(s.dirs.z);
+  const Interval d2 = square(dirs.x) + square(dirs.y) + square(dirs.z);
   const Interval inv_d = Interval(1.0) / sqrt(d2, &dom);
-  const Interval quotient =
-      (g.g[0] * s.dirs.x + g.g[1] * s.dirs.y + g.g[2] * s.dirs.z) * inv_n * inv_d;
+  const Interval quotient = (g.g[0] * dirs.x + g.g[1] * dirs.y + g.g[2] * dirs.z) * inv_n * inv_d;
   const IBox gb(g.g[0], g.g[1], g.g[2]);
   // Both the normals and the directions are enclosed in cones around their boxes' centres; the
   // angle between a normal and a direction then lies within the sum of the half-angles of the
@@ -276,9 +324,9 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s) {
   // interval quotient, much more tightly (that one multiplies the width by the ratio of the
   // largest to the smallest |grad F| on the box). Both enclose the same set, so their
   // intersection does too. A cone of 90 degrees or more proves nothing: the quotient alone.
-  const double ag = cone_half_angle(gb), ad = cone_half_angle(s.dirs);
+  const double ag = cone_half_angle(gb), ad = cone_half_angle(dirs);
   if (!(ag < kHalfPi) || !(ad < kHalfPi)) return quotient;
-  const Vec3 cg = box_centre(gb), cd = box_centre(s.dirs);
+  const Vec3 cg = box_centre(gb), cd = box_centre(dirs);
   const double c0 = dot(cg, cd) / (length(cg) * length(cd));
   const double th = std::acos(std::clamp(c0, -1.0, 1.0));
   // The slack covers the rounding of the few double operations above (a decision, not a claim).
@@ -287,6 +335,30 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s) {
   // Both enclose the same set: keep what both allow.
   const Interval both = intersect(quotient, cone);
   return both.is_empty() ? quotient : both;
+}
+
+}  // namespace
+
+Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces) {
+  // Only the normals at the first hits matter, and those lie where the surface may be: the hit
+  // segment is cut into `pieces` in depth, a piece whose F excludes 0 holds no hit and is left
+  // out, and the estimator is the hull over the others. Smaller boxes also give sharper
+  // gradients (the box of a long slanted segment is much wider than the segment).
+  const Vec3& eye = ctx.setup.frame.eye;
+  Interval out = Interval::empty();
+  const int n = std::max(1, pieces);
+  for (int k = 0; k < n; ++k) {
+    const double t0 = k == 0 ? s.t_near : s.t_near + (s.t_far - s.t_near) * k / n;
+    const double t1 = k == n - 1 ? s.t_far : s.t_near + (s.t_far - s.t_near) * (k + 1) / n;
+    const IBox box = n == 1 ? s.hit_box : segment_box(eye, s.dirs, Interval(t0, t1));
+    bool partial = false;
+    const IGrad g = ctx.eval_grad(box, &partial);
+    if (partial) return Interval::whole();
+    if (n > 1 && !g.v.contains_zero()) continue;
+    out = out.is_empty() ? unit_dot(g, s.dirs) : hull(out, unit_dot(g, s.dirs));
+    if (out.width() > 2.0) return out;  // already unbounded or wider than any threshold
+  }
+  return out.is_empty() ? Interval::whole() : out;
 }
 
 }  // namespace iaa

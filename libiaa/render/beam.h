@@ -39,9 +39,15 @@ struct BeamSearch {
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
                         const BeamSearch* parent, BeamTrace* trace);
 
+/// Tightens t_far of a Full beam: the slices at t_near + step 2^k (below t_far) are tried
+/// front to back, and the first with the sign opposite to the proof's near slice becomes t_far
+/// (then a few bisections towards t_near). The proof stays valid: its near slice and continuity
+/// cover the shorter range. Returns true when t_far moved. Needs a RoundingScope.
+bool tighten_far(RenderContext& ctx, BeamSearch* s, double step);
+
 /// The estimator of a Full beam (DESIGN.md, "IAA pixel subdivision", step 3): the interval dot
 /// product of the unit normal grad F / |grad F| over the hit box with the unit beam direction.
 /// Returns the whole line when |grad F| cannot be bounded away from 0 (or f is partial there).
-Interval beam_estimator(RenderContext& ctx, const BeamSearch& s);
+Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces = 1);
 
 }  // namespace iaa

@@ -28,16 +28,53 @@ struct RenderSetup {
   RenderSetup(const Scene& scene, const RenderSettings& settings);
 };
 
+/// When the mean-value form is tried (beam.cpp). It costs a gradient evaluation and a point
+/// evaluation; on some surfaces it almost never excludes what the natural enclosure keeps (huge,
+/// fast-varying gradients, as on the twist's thin blades), on others most of the time (the
+/// dependency of low-degree polynomials such as chubs). It is tried freely for the first kTrial
+/// times of a unit of work (one screen block, one pixel), then only while at least 1 in kRate
+/// tries excludes 0.
+///
+/// Where the natural enclosure of narrow depth pieces (or of slices) keeps 0 at least 7 times
+/// in 8, those are evaluated with the gradient at once (gradient_first()): the value part of that
+/// evaluation is the same natural enclosure, so a plain evaluation is saved.
+///
+/// Reset per unit of work, so no decision depends on threads or on which pixels came before;
+/// skipping a mean-value form only gives up an exclusion, never claims one.
+struct MeanValueBudget {
+  static constexpr int kTrial = 8;
+  static constexpr int kRate = 8;
+  enum Kind { kPiece = 0, kSlice = 1 };
+  int tries = 0, hits = 0;  ///< mean-value forms tried, and how many excluded 0
+  int seen[2] = {0, 0};     ///< natural enclosures of narrow pieces / slices
+  int natural[2] = {0, 0};  ///< ... and how many of them excluded 0
+  bool allowed() const { return tries < kTrial || hits * kRate >= tries; }
+  bool gradient_first(Kind k) const {
+    return allowed() && seen[k] >= kTrial && natural[k] * kRate <= seen[k];
+  }
+  void record(bool excluded) {
+    ++tries;
+    hits += excluded;
+  }
+  void record_natural(Kind k, bool excluded) {
+    ++seen[k];
+    natural[k] += excluded;
+  }
+  void reset() { *this = MeanValueBudget{}; }
+};
+
 /// Evaluators and counters of one task.
 struct RenderContext {
   const RenderSetup& setup;
   IntervalEval ie;
   IntervalGradEval ig;
+  PointEval pe;
   PointGradEval pg;
   std::uint64_t evals = 0;  ///< interval evaluations so far (both interval modes)
+  MeanValueBudget mv;       ///< of the current screen block or pixel
 
   explicit RenderContext(const RenderSetup& s)
-      : setup(s), ie(*s.scene->tape), ig(*s.scene->tape), pg(*s.scene->tape) {}
+      : setup(s), ie(*s.scene->tape), ig(*s.scene->tape), pe(*s.scene->tape), pg(*s.scene->tape) {}
 
   /// F over a box, counted. `partial` receives partial_domain().
   Interval eval(const IBox& b, bool* partial = nullptr) {

@@ -47,7 +47,7 @@ void certify(RenderContext& ctx, const Vec3& o, const IBox& dir, const Interval&
 }  // namespace
 
 RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol,
-                  double newton_from) {
+                  double newton_from, bool certify_hit) {
   RayHit out;
   if (range.is_empty()) return out;
   PieceStack st;
@@ -67,7 +67,7 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
       out.hit = true;
       out.t = Interval(a, b);
       // Certify by a strict sign change at the ends of a piece where f is continuous.
-      certify(ctx, o, dir, range, tol, &out);
+      if (certify_hit) certify(ctx, o, dir, range, tol, &out);
       return out;
     }
     // Newton only where the whole piece lies inside the bounds: its mean-value argument needs F'

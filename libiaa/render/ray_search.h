@@ -19,9 +19,11 @@ struct RayHit {
 /// Searches origin + t * dir for t in `range`, front to back, inside the scene bounds. `dir` is
 /// an enclosure of the exact direction (a degenerate box for a double direction). Pieces are
 /// narrowed to width `tol`; interval Newton is tried on pieces no wider than `newton_from`.
-/// Needs a RoundingScope.
+/// With `certify` false, a hit found by bisection is not tried for a proved sign change
+/// (`certified` then only reports interval Newton's proofs): for callers that only need where the
+/// first possible root is, such as the shading point of an IAA part. Needs a RoundingScope.
 RayHit search_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
-                  double tol, double newton_from);
+                  double tol, double newton_from, bool certify = true);
 
 /// True when some point of the segment origin + s * dir, s in range, may lie on the surface
 /// (a shadow ray). Stops at the first piece of width <= tol that still contains 0.

@@ -39,6 +39,8 @@ constexpr double kPartialShadeReach = 8.0;
 constexpr double kShadeTolerance = 1.0 / 64;
 /// Share of a Partial part's area shown as surface when its central ray finds no surface at all.
 constexpr double kPartialMissWeight = 0.25;
+/// Depth pieces of a Full beam's hit segment over which the estimator is taken (beam_estimator).
+constexpr int kEstimatorPieces = 4;
 
 bool may_be_partial(const Tape& tape) {
   for (const Instr& in : tape.instrs()) {
@@ -118,6 +120,7 @@ class Renderer {
                    PixelTrace* tr, int parent) {
     BeamTrace bt;
     const std::uint64_t e0 = ctx_.evals;
+    ctx_.mv.reset();
     const BeamSearch s = eval_ray_set(ctx_, rect, range, parent_full, tr ? &bt : nullptr);
     if (tr) {
       bt.rect = rect;
@@ -143,6 +146,7 @@ class Renderer {
   PixelResult iaa_pixel(int x, int y, Interval range, const BeamSearch* pfull, PixelTrace* tr) {
     IaaAccum acc;
     shadow_cache_.clear(0);
+    ctx_.mv.reset();
     const int parent = tr && !tr->beams.empty() ? static_cast<int>(tr->beams.size()) - 1 : -1;
     iaa_beam(PixelRect{double(x), double(y), double(x + 1), double(y + 1)}, 0, range, pfull, acc,
              tr, parent);
@@ -162,7 +166,7 @@ class Renderer {
     BeamTrace* t = tr ? &bt : nullptr;
     const std::uint64_t e0 = ctx_.evals;
     const double area = rect.area();
-    const BeamSearch s = eval_ray_set(ctx_, rect, range, parent_full, t);
+    BeamSearch s = eval_ray_set(ctx_, rect, range, parent_full, t);
     BeamDecision decision = BeamDecision::kBackground;
     if (s.result == BeamResult::kMiss) {
       acc.color = acc.color + area * background(ctx_);
@@ -170,7 +174,15 @@ class Renderer {
       bool shade_now = level >= st_.max_level;
       decision = BeamDecision::kShadeLeaf;
       if (!shade_now && s.result == BeamResult::kFull) {
-        const Interval est = beam_estimator(ctx_, s);
+        // A Full beam whose estimator is too wide first gets a shorter hit segment (a few slice
+        // evaluations), which is much cheaper than splitting it.
+        Interval est = beam_estimator(ctx_, s, kEstimatorPieces);
+        if (est.width() > st_.estimator_threshold &&
+            tighten_far(ctx_, &s,
+                        st_.depth_tolerance * su_.frame.scale *
+                            std::max(rect.width(), rect.height()) * s.t_near)) {
+          est = beam_estimator(ctx_, s, kEstimatorPieces);
+        }
         if (t) t->estimator = est;
         if (est.width() <= st_.estimator_threshold) {
           shade_now = true;
@@ -234,8 +246,14 @@ class Renderer {
     // grazing rays a fine tolerance costs thousands of evaluations for no visible difference.
     const double foot = su_.frame.scale * std::max(rect.width(), rect.height()) * sr.lo();
     const double shade_tol = std::max(su_.ray_tol, kShadeTolerance * foot);
-    RayHit h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, shade_tol,
-                          su_.frame.scale * sr.hi() * 4);
+    RayHit h;
+    if (s.result == BeamResult::kFull) {
+      h.hit = true;
+      h.t = Interval(full_root(d, s, shade_tol));
+    } else {
+      h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, shade_tol,
+                     su_.frame.scale * sr.hi() * 4, false);
+    }
     *weight = 1.0;
     if (!h.hit && s.result == BeamResult::kPartial) {
       // A Partial part whose central ray misses the surface near t_near: that ray either sees a
@@ -244,7 +262,8 @@ class Renderer {
       // over the background, never dropped (its coverage stays > 0).
       if (sr.hi() < range.hi()) {
         h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc),
-                       Interval(sr.hi(), range.hi()), shade_tol, su_.frame.scale * range.hi() * 4);
+                       Interval(sr.hi(), range.hi()), shade_tol, su_.frame.scale * range.hi() * 4,
+                       false);
       }
       if (!h.hit) *weight = kPartialMissWeight;
     }
@@ -270,6 +289,46 @@ class Renderer {
       t->color = c;
     }
     return c;
+  }
+
+  /// The first hit of the central ray `d` of a Full part, to within `tol`, by regula falsi
+  /// (Illinois) on point values. The proof of the part brackets it: no ray of the part meets the
+  /// surface in [t_s, t_near), f has the sign s.sign on the slice at t_s and the opposite one on
+  /// the slice at t_far, and is continuous in between; so the central ray has a root in every
+  /// bracket kept, and none before t_near. Only the shading point depends on it.
+  double full_root(const Vec3& d, const BeamSearch& s, double tol) {
+    const Vec3& eye = su_.frame.eye;
+    auto g = [&](double t) { return ctx_.pe.eval(eye + t * d) * s.sign; };  // > 0 on the near side
+    double a = s.t_near, b = s.t_far;
+    double ga = g(a), gb = g(b);
+    if (!(ga > 0)) {
+      if (ga == 0) return a;
+      a = s.t_s;  // rounding at t_near: the slice at t_s has the proved sign
+      ga = g(a);
+    }
+    if (!(ga > 0) || !(gb < 0)) return 0.5 * (s.t_near + s.t_far);  // no usable point signs
+    int stale = 0;  // which end kept its value last time: +1 a, -1 b
+    double width = b - a;
+    for (int it = 0; it < 64 && b - a > tol; ++it) {
+      double t = a + (b - a) * (ga / (ga - gb));
+      // Bisect when the bracket did not halve in two steps (regula falsi stalling).
+      if ((it % 2 == 1 && b - a > 0.5 * width) || !(t > a && t < b)) t = 0.5 * (a + b);
+      if (it % 2 == 1) width = b - a;
+      const double gt = g(t);
+      if (gt == 0) return t;
+      if (gt > 0) {
+        a = t;
+        ga = gt;
+        if (stale == -1) gb *= 0.5;
+        stale = -1;
+      } else {
+        b = t;
+        gb = gt;
+        if (stale == 1) ga *= 0.5;
+        stale = 1;
+      }
+    }
+    return 0.5 * (a + b);
   }
 
   /// A part's colour shown with weight `w` over the background.
