@@ -174,13 +174,14 @@ class Renderer {
       bool shade_now = level >= st_.max_level;
       decision = BeamDecision::kShadeLeaf;
       if (!shade_now && s.result == BeamResult::kFull) {
-        // A Full beam whose estimator is too wide first gets a shorter hit segment (a few slice
-        // evaluations), which is much cheaper than splitting it.
-        Interval est = beam_estimator(ctx_, s, kEstimatorPieces);
-        if (est.width() > st_.estimator_threshold &&
-            tighten_far(ctx_, &s,
-                        st_.depth_tolerance * su_.frame.scale *
-                            std::max(rect.width(), rect.height()) * s.t_near)) {
+        // The estimator over the whole hit box first (one gradient evaluation); when it is too
+        // wide, a shorter hit segment (a few slice evaluations) and the estimator over its
+        // pieces that may hold the surface, which is much cheaper than splitting the beam.
+        Interval est = beam_estimator(ctx_, s, 1);
+        if (est.width() > st_.estimator_threshold) {
+          tighten_far(ctx_, &s,
+                      st_.depth_tolerance * su_.frame.scale *
+                          std::max(rect.width(), rect.height()) * s.t_near);
           est = beam_estimator(ctx_, s, kEstimatorPieces);
         }
         if (t) t->estimator = est;
