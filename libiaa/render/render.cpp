@@ -192,7 +192,10 @@ class Renderer {
       }
       if (shade_now) {
         double w = 1.0;
-        const Vec3 c = w_blend(shade_beam(rect, s, range, t, &w), w);
+        // Two statements: shade_beam() sets w, and the order in which a call's arguments are
+        // evaluated is unspecified (w_blend(shade_beam(..., &w), w) read w before it was set).
+        const Vec3 shaded = shade_beam(rect, s, range, t, &w);
+        const Vec3 c = w_blend(shaded, w);
         if (t) {
           t->color = c;
           t->weight = w;

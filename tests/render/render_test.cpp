@@ -176,6 +176,31 @@ TEST(Render, SurfacesWithoutSignChangeRender) {
   EXPECT_GT(f.coverage[f.index(12, 12)], 0.0f);
 }
 
+// A pixel's colour is the area-weighted mean of its parts, each shown with its weight over the
+// background: a pixel that shows surface on a fraction c of its area can differ from the
+// background by at most c times the largest difference a shaded colour can make (ambient +
+// diffuse + specular of the bundled materials stay below 1.25 per channel with lights of at most
+// unit colour, and backgrounds lie in [0, 1]). A colour blended with the wrong weight breaks it.
+TEST(Render, PixelColourDiffersFromTheBackgroundAtMostByItsCoverage) {
+  for (const char* name : {"teardrop", "chubs", "tritrumpet"}) {
+    const Scene s = test::bundled(name, 64);
+    const Film f = render(s, with_method(RenderMethod::kIaa), threads(2));
+    const Vec3 bg = s.background;
+    int partial_pixels = 0;
+    for (int y = 0; y < f.height; ++y) {
+      for (int x = 0; x < f.width; ++x) {
+        const float c = f.coverage[f.index(x, y)];
+        const Rgb& px = f.at(x, y);
+        const double diff =
+            std::max({std::fabs(px.r - bg.x), std::fabs(px.g - bg.y), std::fabs(px.b - bg.z)});
+        EXPECT_LE(diff, 1.25 * c + 1e-6) << name << " pixel " << x << "," << y;
+        partial_pixels += c > 0 && c < 0.5;
+      }
+    }
+    EXPECT_GT(partial_pixels, 0) << name << ": no pixel exercises a partial weight";
+  }
+}
+
 TEST(Render, RejectsBadSettings) {
   const Scene s = test::bundled("chubs", 16);
   RenderSettings st;
