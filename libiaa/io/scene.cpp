@@ -23,6 +23,10 @@ namespace {
 /// Largest image edge and pixel count a scene may ask for.
 constexpr int kMaxEdge = 16384;
 constexpr long long kMaxPixels = 64LL * 1024 * 1024;
+/// Limits of the vertical field of view in degrees (docs/scene-format.md): above 0, so that the
+/// image plane has a size, and below 180.
+constexpr double kMinFov = 1e-3;
+constexpr double kMaxFov = 179.0;
 
 /// Reads one table, remembering which keys were used so that the rest can be reported.
 class TableReader {
@@ -331,7 +335,7 @@ Scene parse_scene(std::string_view text, std::string_view source_view,
     s.camera.eye = r.vec3("eye", s.camera.eye);
     s.camera.look_at = r.vec3("look_at", s.camera.look_at);
     s.camera.up = r.vec3("up", s.camera.up);
-    s.camera.fov_deg = r.number("fov", s.camera.fov_deg, 1e-3, 179.0);
+    s.camera.fov_deg = r.number("fov", s.camera.fov_deg, kMinFov, kMaxFov);
     r.check_unknown();
     try {
       validate_camera(s.camera);

@@ -57,6 +57,8 @@ bad "malformed scene" "malformed.toml" "$iaa" render "$tmp/malformed.toml" -o "$
 bad "unknown key" "camera.fovy" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.fovy=3
 bad "eye == look_at" "same point" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.eye=[-0.05,0,0]
 bad "up parallel" "parallel" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.up=[0.4,0.9,3.0]
+bad "fov 0" "\[0.001, 179\]" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.fov=0
+bad "fov 180" "camera.fov" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.fov=180
 bad "zero width" "image.width" "$iaa" render "$scene" -o "$tmp/bad.png" --width 0
 bad "huge size" "image.width" "$iaa" render "$scene" -o "$tmp/bad.png" --width 100000 --height 100000
 bad "window outside" "window" "$iaa" render "$scene" -o "$tmp/bad.png" "${small[@]}" --window 0,0,41,10

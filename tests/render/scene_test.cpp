@@ -86,6 +86,18 @@ TEST(Scene, DegenerateCamerasAreErrors) {
             std::string::npos);
 }
 
+// The field of view's limits are the documented [0.001, 179], and the message states them.
+TEST(Scene, FovLimitsAreStated) {
+  for (const char* fov : {"0", "0.0009", "179.5", "180", "-1"}) {
+    const std::string e = error_of(std::string(kMinimal) + "[camera]\nfov = " + fov + "\n");
+    EXPECT_NE(e.find("'camera.fov'"), std::string::npos) << fov << ": " << e;
+    EXPECT_NE(e.find("[0.001, 179]"), std::string::npos) << fov << ": " << e;
+  }
+  for (const char* fov : {"0.001", "1", "179"}) {
+    EXPECT_EQ(error_of(std::string(kMinimal) + "[camera]\nfov = " + fov + "\n"), "") << fov;
+  }
+}
+
 TEST(Scene, ExpressionUndefinedEverywhereIsAnError) {
   EXPECT_NE(
       error_of("[surface]\nexpression = \"sqrt(-1 - x^2)\"\nmin = [-1,-1,-1]\nmax = [1,1,1]\n")
