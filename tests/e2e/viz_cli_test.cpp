@@ -1,7 +1,8 @@
 // `iaa-viz` end to end: a picture rendered on the display of `xvfb-run -a` (not iaa-viz's own
 // Xvfb) has the class colours of the boxes; the `iaa-viz mesh` shortcut shows the mesh on the left
 // and the enclosure on the right; `--camera scene|auto|EYE:LOOK:UP` each give a picture and a bad
-// camera is one clear error with no file; asking for a window without a display is an error.
+// camera is one clear error with no file; asking for a window without a display, or with a
+// DISPLAY that cannot be opened, is an error, while a PNG is then rendered on a private Xvfb.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -118,6 +119,7 @@ TEST_F(VizCli, UnderXvfbRunTheBoxesHaveTheirClassColours) {
                  "/iaa-viz enclose " + kScene + " --depth 5 -q --size 320x240 -o " + png));
   ASSERT_EQ(r.status, 0) << r.out << r.err;
   EXPECT_NE(r.out.find("display :"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("private Xvfb"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("wrote " + png + " (320x240, 1 layers)"), std::string::npos) << r.out;
   const iaa::tools::Image8 img = iaa::tools::read_png(png);
   ASSERT_EQ(img.width, 320);
@@ -218,6 +220,8 @@ TEST_F(VizCli, BadCameraIsOneClearErrorWithNoFile) {
     EXPECT_NE(r.err.find("iaa-viz: error: "), std::string::npos) << c.camera << ": " << r.err;
     EXPECT_NE(r.err.find(c.message), std::string::npos) << c.camera << ": " << r.err;
     EXPECT_FALSE(fs::exists(png)) << c.camera;
+    // Checked before the enclosure is computed.
+    EXPECT_EQ(r.out.find("enclosure:"), std::string::npos) << c.camera << ": " << r.out;
   }
 }
 
@@ -237,7 +241,47 @@ TEST_F(VizCli, WindowWithoutADisplayIsAnError) {
                          "give -o FILE.png to render to a file"),
               std::string::npos)
         << args << ": " << r.err;
+    // Before any enclosure or mesh is computed.
+    EXPECT_EQ(r.out, "") << args;
   }
+}
+
+/// A display number with no X server (no socket), or -1.
+int unused_display() {
+  for (int n = 987; n < 1000; ++n) {
+    if (!fs::exists("/tmp/.X11-unix/X" + std::to_string(n))) return n;
+  }
+  return -1;
+}
+
+// DISPLAY names a display that is not there: VTK would abort the process. A window is one clear
+// error; a PNG is rendered on a private Xvfb, with a note.
+TEST_F(VizCli, UnreachableDisplay) {
+  const int n = unused_display();
+  if (n < 0) GTEST_SKIP() << "no unused display number";
+  const std::string env = "env DISPLAY=:" + std::to_string(n) + " " + quoted(kBin + "/iaa-viz");
+  const std::string vtu = tmp("boxes.vtu");
+  ASSERT_EQ(
+      run(quoted(kBin + "/iaa") + " enclose " + quoted(kScene) + " --depth 3 -q -o " + quoted(vtu))
+          .status,
+      0);
+  for (const std::string& args : {quoted(vtu), "enclose " + quoted(kScene) + " --depth 3 -q"}) {
+    const Outcome r = run(env + " " + args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("iaa-viz: error: cannot open the X display DISPLAY=:" + std::to_string(n) +
+                         "; check DISPLAY"),
+              std::string::npos)
+        << args << ": " << r.err;
+    EXPECT_EQ(r.out, "") << args;
+  }
+  if (!have("Xvfb")) return;
+  const std::string png = tmp("x.png");
+  const Outcome r = run(env + " " + quoted(vtu) + " --size 160x120 -o " + quoted(png));
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("rendering on a private Xvfb"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("wrote " + png + " (160x120, 1 layers)"), std::string::npos) << r.out;
+  ASSERT_TRUE(fs::exists(png));
+  EXPECT_GT(count(iaa::tools::read_png(png), 0, 160).teal, 200);
 }
 
 }  // namespace

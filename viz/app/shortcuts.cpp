@@ -198,6 +198,8 @@ int run_shortcut(const char* name, int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  // Bad view options or a window without a display are reported before the computation.
+  check_view(o.view);
   if (is_mesh) {
     run_mesh(o);
   } else {
