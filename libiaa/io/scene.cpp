@@ -2,7 +2,9 @@
 // over in a table is an unknown key and an error that names it.
 #include "io/scene.h"
 
+#include <algorithm>
 #include <cmath>
+#include <deque>
 #include <set>
 #include <sstream>
 #include <string>
@@ -11,6 +13,7 @@
 
 #include "core/error.h"
 #include "expr/eval_interval.h"
+#include "expr/eval_point.h"
 #include "render/camera.h"
 
 namespace iaa {
@@ -20,6 +23,10 @@ namespace {
 /// Largest image edge and pixel count a scene may ask for.
 constexpr int kMaxEdge = 16384;
 constexpr long long kMaxPixels = 64LL * 1024 * 1024;
+/// Limits of the vertical field of view in degrees (docs/scene-format.md): above 0, so that the
+/// image plane has a size, and below 180.
+constexpr double kMinFov = 1e-3;
+constexpr double kMaxFov = 179.0;
 
 /// Reads one table, remembering which keys were used so that the rest can be reported.
 class TableReader {
@@ -140,6 +147,70 @@ class TableReader {
   std::set<std::string> used_;
 };
 
+/// Sub-boxes per axis of the first grid of undefined_everywhere, and how many boxes it may
+/// evaluate in all before it gives up (a few milliseconds for a long tape).
+constexpr int kDomainGrid = 8;
+constexpr long kDomainBudget = 50000;
+
+/// Proves that f is undefined (NaN) at every point of `b`: the number of boxes whose empty
+/// interval values cover `b`, or 0 when f is defined somewhere or no proof was found in the
+/// budget. A box's interval value is empty only when f is undefined at all of its points, so a
+/// cover of empty boxes is a proof; a finite value at any point disproves it at once. The box is
+/// cut into a kDomainGrid^3 grid, then every box that is neither empty nor shown defined at its
+/// centre is halved on all axes, breadth first (one interval evaluation over the whole box misses
+/// `sqrt(x - x - 1)`, whose interval over a box wider than 1 reaches above 0).
+long undefined_everywhere(const Tape& tape, const Box3& b) {
+  PointEval pe(tape);
+  IntervalEval ie(tape);
+  // Grid edges in round-to-nearest: neighbours share one edge value, the last is b.hi, so the
+  // sub-boxes cover b exactly.
+  double edge[3][kDomainGrid + 1];
+  for (int a = 0; a < 3; ++a) {
+    for (int i = 0; i < kDomainGrid; ++i) {
+      edge[a][i] = std::min(b.hi[a], b.lo[a] + (b.hi[a] - b.lo[a]) * i / kDomainGrid);
+    }
+    edge[a][kDomainGrid] = b.hi[a];
+  }
+  std::deque<Box3> open;
+  for (int i = 0; i < kDomainGrid; ++i) {
+    for (int j = 0; j < kDomainGrid; ++j) {
+      for (int k = 0; k < kDomainGrid; ++k) {
+        open.push_back(Box3{{edge[0][i], edge[1][j], edge[2][k]},
+                            {edge[0][i + 1], edge[1][j + 1], edge[2][k + 1]}});
+      }
+    }
+  }
+  // Point samples first: for most expressions the first centre is finite and that settles it.
+  for (const Box3& c : open) {
+    if (std::isfinite(pe.eval(c.center()))) return 0;
+  }
+  for (int a = 0; a < 3; ++a) {
+    if (std::isfinite(pe.eval(a == 0 ? b.lo : a == 1 ? b.hi : b.center()))) return 0;
+  }
+  long empty = 0, evaluated = 0;
+  while (!open.empty()) {
+    if (++evaluated > kDomainBudget) return 0;
+    const Box3 c = open.front();
+    open.pop_front();
+    if (ie.eval(c).is_empty()) {
+      ++empty;
+      continue;
+    }
+    const Vec3 m = c.center();
+    if (std::isfinite(pe.eval(m))) return 0;
+    // Halve on every axis; a box too small to split (m equal to an end) stays unproved.
+    for (int a = 0; a < 3; ++a) {
+      if (!(c.lo[a] < m[a] && m[a] < c.hi[a])) return 0;
+    }
+    for (int q = 0; q < 8; ++q) {
+      Box3 h = c;
+      for (int a = 0; a < 3; ++a) (((q >> a) & 1) ? h.lo : h.hi)[a] = m[a];
+      open.push_back(h);
+    }
+  }
+  return empty;
+}
+
 /// Parses an override's value as TOML, or takes it as a string when it is not valid TOML.
 void apply_override(toml::table& root, const SceneOverride& o, const std::string& source) {
   if (o.key.empty()) throw Error("--set: empty key");
@@ -249,11 +320,12 @@ Scene parse_scene(std::string_view text, std::string_view source_view,
                        e.column());
     }
     // An expression undefined everywhere in the box can show nothing: say so rather than
-    // render an empty picture.
-    IntervalEval ie(*s.tape);
-    if (ie.eval(s.bounds).is_empty()) {
+    // render an empty picture. Only a proof rejects a surface; one defined anywhere is kept.
+    if (const long boxes = undefined_everywhere(*s.tape, s.bounds); boxes > 0) {
       throw Error(source +
-                  ": key 'surface.expression': f is undefined (NaN) everywhere in the bounds");
+                  ": key 'surface.expression': f is undefined (NaN) everywhere in the bounds "
+                  "(proved on " +
+                  std::to_string(boxes) + " sub-boxes); there is no surface to show");
     }
   }
 
@@ -263,7 +335,7 @@ Scene parse_scene(std::string_view text, std::string_view source_view,
     s.camera.eye = r.vec3("eye", s.camera.eye);
     s.camera.look_at = r.vec3("look_at", s.camera.look_at);
     s.camera.up = r.vec3("up", s.camera.up);
-    s.camera.fov_deg = r.number("fov", s.camera.fov_deg, 1e-3, 179.0);
+    s.camera.fov_deg = r.number("fov", s.camera.fov_deg, kMinFov, kMaxFov);
     r.check_unknown();
     try {
       validate_camera(s.camera);

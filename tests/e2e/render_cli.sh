@@ -47,6 +47,8 @@ done
 ok "window" "$iaa" render "$scene" -o "$tmp/w.png" "${small[@]}" --window 5,5,20,15
 ok "set" "$iaa" render "$scene" -o "$tmp/s.png" "${small[@]}" --set camera.fov=30 --set render.max_level=1
 ok "help" "$iaa" render --help
+# Defined only in a small ball that no grid centre of the domain check falls in: not rejected.
+ok "defined in a small ball" "$iaa" render "$scene" -o "$tmp/ball.png" "${small[@]}" --set 'surface.expression="sqrt(0.001 - (x-0.3)^2 - (y-0.2)^2 - z^2) - 0.01"'
 
 # Bad input.
 bad "missing scene" "cannot read" "$iaa" render "$tmp/nope.toml" -o "$tmp/bad.png"
@@ -55,10 +57,14 @@ bad "malformed scene" "malformed.toml" "$iaa" render "$tmp/malformed.toml" -o "$
 bad "unknown key" "camera.fovy" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.fovy=3
 bad "eye == look_at" "same point" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.eye=[-0.05,0,0]
 bad "up parallel" "parallel" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.up=[0.4,0.9,3.0]
+bad "fov 0" "\[0.001, 179\]" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.fov=0
+bad "fov 180" "camera.fov" "$iaa" render "$scene" -o "$tmp/bad.png" --set camera.fov=180
 bad "zero width" "image.width" "$iaa" render "$scene" -o "$tmp/bad.png" --width 0
 bad "huge size" "image.width" "$iaa" render "$scene" -o "$tmp/bad.png" --width 100000 --height 100000
 bad "window outside" "window" "$iaa" render "$scene" -o "$tmp/bad.png" "${small[@]}" --window 0,0,41,10
 bad "NaN everywhere" "undefined" "$iaa" render "$scene" -o "$tmp/bad.png" --set 'surface.expression="sqrt(-1-x^2)"'
+# One interval over the whole box reaches above 0 here; the sub-box scan proves it undefined.
+bad "NaN everywhere, x - x" "undefined (NaN) everywhere" "$iaa" render "$scene" -o "$tmp/bad.png" --set 'surface.expression="sqrt(x - x - 1)"'
 bad "bad method" "unknown method" "$iaa" render "$scene" -o "$tmp/bad.png" --method raymarch
 bad "not png" "png" "$iaa" render "$scene" -o "$tmp/bad.jpg"
 bad "bad level" "max_level" "$iaa" render "$scene" -o "$tmp/bad.png" --max-level 9

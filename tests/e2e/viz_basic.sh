@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# iaa-viz end to end: headless render (own Xvfb with DISPLAY unset) of an enclosure and a mesh,
-# PNGs that are not blank; clear errors for a missing file, an unknown type, a bad size.
+# iaa-viz end to end: headless render (own Xvfb with DISPLAY unset) of an enclosure and of a mesh
+# (`iaa-viz enclose`, `iaa-viz mesh`), PNGs that are not blank; clear errors for a missing file, an
+# unknown type, a bad size. Colours, cameras and display errors: tests/e2e/viz_cli_test.cpp.
 set -euo pipefail
 bin="$1"
 [ -x "$bin/iaa-viz" ] || { echo "iaa-viz not built: skipped"; exit 0; }
@@ -23,6 +24,11 @@ TOML
 test -s "$tmp/enc.png"
 # Not blank: the PNG of a white picture at this size compresses to far less.
 [ "$(stat -c %s "$tmp/enc.png")" -gt 3000 ] || { echo "enc.png looks blank"; exit 1; }
+# The mesh shortcut: the octree mesh beside its enclosure (colours: tests/e2e/viz_cli_test.cpp).
+"$bin/iaa-viz" mesh "$tmp/s.toml" --depth 4 -q --size 300x150 -o "$tmp/mesh.png" >"$tmp/out"
+grep -q "^mesh: .* triangles from " "$tmp/out" || { echo "mesh: no summary line"; cat "$tmp/out"; exit 1; }
+grep -q "(300x150, " "$tmp/out" || { echo "mesh: wrong size"; cat "$tmp/out"; exit 1; }
+[ "$(stat -c %s "$tmp/mesh.png")" -gt 3000 ] || { echo "mesh.png looks blank"; exit 1; }
 if "$bin/iaa-viz" "$tmp/missing.vtu" -o "$tmp/x.png" 2>"$tmp/err"; then echo "missing file accepted"; exit 1; fi
 grep -q "no such file" "$tmp/err"
 touch "$tmp/a.xyz"

@@ -1,10 +1,15 @@
 // EvalRaySet's certificates, as properties: a Miss beam holds no root of any of 100 random rays
-// inside it; a Full beam's random rays all meet the surface inside [t_near, t_far].
+// inside it; a Full beam's random rays all meet the surface inside [t_near, t_far]. Both for
+// beams searched on their own and for children of Full beams that inherit the parent's proof.
 #include "render/beam.h"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <random>
+#include <sstream>
+#include <string>
+#include <utility>
 
 #include "render/ray_search.h"
 #include "render/render_test_util.h"
@@ -73,6 +78,154 @@ TEST(EvalRaySet, MissBeamsHoldNoRootOfRandomRays) {
   }
   EXPECT_GT(misses, 20);
   EXPECT_GT(fulls, 5);
+}
+
+/// Sign of f at the point of the ray eye + t d(u, v), proved with intervals on the box of that
+/// point (the natural form, then the mean-value form): +1 / -1, or 0 when intervals cannot tell.
+int proved_sign_on_ray(RenderContext& ctx, const RenderSetup& setup, double u, double v, double t) {
+  const IBox p = segment_box(setup.frame.eye, setup.frame.dir_box(u, v), Interval(t));
+  bool partial = false;
+  Interval f = ctx.eval(p, &partial);
+  if (partial) return 0;
+  if (f.contains_zero()) {
+    const IGrad g = ctx.eval_grad(p, &partial);
+    if (partial) return 0;
+    IBox c;
+    for (int i = 0; i < 3; ++i) c[i] = Interval(p[i].mid());
+    Interval m = ctx.eval(c);
+    for (int i = 0; i < 3; ++i) m += g.g[static_cast<std::size_t>(i)] * (p[i] - c[i]);
+    f = intersect(f, m);
+  }
+  return f.certainly_positive() ? 1 : (f.certainly_negative() ? -1 : 0);
+}
+
+/// The four quarters of a beam, as the renderer splits it.
+std::array<PixelRect, 4> quarters(const PixelRect& r) {
+  const double um = 0.5 * (r.u0 + r.u1), vm = 0.5 * (r.v0 + r.v1);
+  return {PixelRect{r.u0, r.v0, um, vm}, PixelRect{um, r.v0, r.u1, vm},
+          PixelRect{r.u0, vm, um, r.v1}, PixelRect{um, vm, r.u1, r.v1}};
+}
+
+/// Counts of the inherited-proof property test.
+struct InheritedCounts {
+  int parents = 0, misses = 0, fulls = 0, other = 0;
+};
+
+/// Checks one child beam searched, as render.cpp does, over its Full parent's child range with
+/// the parent passed in, then recurses into its quarters down to `levels` more levels.
+/// A Miss child: no ray of it has a root anywhere in the depth range (its area is shown as
+/// background). A Full child: every ray of it has f of the proved sign at t_s, the opposite sign
+/// at t_far, and no root in front of t_near, so it meets the surface inside [t_near, t_far].
+void check_children(RenderContext& ctx, const RenderSetup& setup, PointEval& pe,
+                    const BeamSearch& parent, const PixelRect& parent_rect, int levels,
+                    std::mt19937& rng, InheritedCounts& n, const std::string& where) {
+  ASSERT_EQ(parent.result, BeamResult::kFull);
+  const Scene& s = *setup.scene;
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  // render.cpp's child_range() for a Full beam.
+  const Interval sub(parent.t_near, parent.t_far);
+  for (const PixelRect& q : quarters(parent_rect)) {
+    const BeamSearch c = eval_ray_set(ctx, q, sub, &parent, nullptr);
+    std::ostringstream at;
+    at << where << " child [" << q.u0 << ", " << q.v0 << "; " << q.u1 << ", " << q.v1 << "]";
+    const std::string msg = at.str();
+    if (c.result == BeamResult::kMiss) {
+      ++n.misses;
+    } else if (c.result == BeamResult::kFull) {
+      ++n.fulls;
+    } else {
+      ++n.other;
+    }
+    for (int k = 0; k < 100; ++k) {
+      const double u = q.u0 + U(rng) * q.width(), v = q.v0 + U(rng) * q.height();
+      const Vec3 d = setup.frame.dir(u, v);
+      if (c.result == BeamResult::kMiss) {
+        const RayHit h = search_ray(ctx, setup.frame.eye, setup.frame.dir_box(u, v), setup.depth,
+                                    setup.ray_tol, 1.0);
+        ASSERT_FALSE(h.certified) << msg << ": Miss, but the ray at " << u << "," << v
+                                  << " has a root at " << h.t.mid();
+        ASSERT_FALSE(
+            sign_change_along(pe, setup.frame.eye, d, setup.depth.lo(), setup.depth.hi(), s.bounds))
+            << msg << ": Miss, but f changes sign along the ray at " << u << "," << v;
+      } else if (c.result == BeamResult::kFull) {
+        ASSERT_LE(c.t_s, c.t_near) << msg;
+        ASSERT_LE(c.t_near, c.t_far) << msg;
+        ASSERT_TRUE(c.sign == 1 || c.sign == -1) << msg;
+        // A certified sign change of this ray within [t_s, t_far] ...
+        EXPECT_EQ(proved_sign_on_ray(ctx, setup, u, v, c.t_s), c.sign)
+            << msg << ": ray " << u << "," << v << " at t_s " << c.t_s;
+        EXPECT_EQ(proved_sign_on_ray(ctx, setup, u, v, c.t_far), -c.sign)
+            << msg << ": ray " << u << "," << v << " at t_far " << c.t_far;
+        // ... and no root in front of t_near, so the root is within [t_near, t_far].
+        // (Dense point sampling is a slow cross-check: on the first rays only.)
+        if (c.t_near > setup.depth.lo()) {
+          const RayHit front = search_ray(ctx, setup.frame.eye, setup.frame.dir_box(u, v),
+                                          Interval(setup.depth.lo(), c.t_near), setup.ray_tol, 1.0);
+          EXPECT_FALSE(front.certified)
+              << msg << ": a root at " << front.t.mid() << " before t_near " << c.t_near;
+          if (k < 10) {
+            EXPECT_FALSE(
+                sign_change_along(pe, setup.frame.eye, d, setup.depth.lo(), c.t_near, s.bounds))
+                << msg << ": a sign change before t_near " << c.t_near;
+          }
+        }
+        const RayHit h = search_ray(ctx, setup.frame.eye, setup.frame.dir_box(u, v),
+                                    Interval(c.t_near, c.t_far), setup.ray_tol, 1.0);
+        EXPECT_TRUE(h.hit) << msg << ": ray " << u << "," << v;
+      }
+    }
+    if (c.result == BeamResult::kFull && levels > 0) {
+      check_children(ctx, setup, pe, c, q, levels - 1, rng, n, msg);
+    }
+  }
+}
+
+// The inherited-proof path of EvalRaySet: a child of a Full beam is searched only over the
+// parent's [t_near, t_far] and takes over its sign-change proof without evaluating slices of its
+// own (beam.h). Children and grandchildren of random Full parents keep both certificates.
+TEST(EvalRaySet, ChildrenOfFullBeamsKeepTheirCertificates) {
+  std::mt19937 rng(2024);
+  InheritedCounts total;
+  // Some scenes with coarser or finer depth pieces than the default (wider kept pieces, other
+  // t_near and t_far) as well.
+  const std::pair<const char*, double> cases[] = {
+      {"teardrop", 1.0}, {"chubs", 1.0}, {"blobby", 4.0}, {"tritrumpet", 0.25}, {"twist", 1.0}};
+  for (const auto& [name, tol] : cases) {
+    const Scene s = test::bundled(name, 64);
+    RenderSettings st;
+    st.depth_tolerance = tol;
+    const RenderSetup setup(s, st);
+    RoundingScope scope;
+    RenderContext ctx(setup);
+    PointEval pe(*s.tape);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    InheritedCounts n;
+    for (int trial = 0; trial < 400 && n.parents < 8; ++trial) {
+      // Parents from 1/4 pixel to 4 pixels (pixels and the blocks above them).
+      const double w = std::ldexp(1.0, static_cast<int>(U(rng) * 5) - 2);
+      const double u0 = U(rng) * (64 - w), v0 = U(rng) * (64 - w);
+      const PixelRect rect{u0, v0, u0 + w, v0 + w};
+      const BeamSearch p = eval_ray_set(ctx, rect, setup.depth, nullptr, nullptr);
+      if (p.result != BeamResult::kFull) continue;
+      ++n.parents;
+      std::ostringstream where;
+      where << name << " (depth_tolerance " << tol << ") parent [" << u0 << ", " << v0 << "; w "
+            << w << "]";
+      check_children(ctx, setup, pe, p, rect, 1, rng, n, where.str());
+      if (::testing::Test::HasFatalFailure()) return;
+    }
+    EXPECT_GE(n.parents, 5) << name << ": too few Full parents to test";
+    total.parents += n.parents;
+    total.misses += n.misses;
+    total.fulls += n.fulls;
+    total.other += n.other;
+  }
+  // Children of a Full parent are Full or Miss: the proof always carries over once a piece is
+  // kept.
+  EXPECT_GT(total.fulls, 100);
+  RecordProperty("parents", total.parents);
+  RecordProperty("full_children", total.fulls);
+  RecordProperty("miss_children", total.misses);
 }
 
 }  // namespace

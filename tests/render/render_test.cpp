@@ -6,7 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <queue>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 #include "render/camera.h"
@@ -82,19 +87,73 @@ TEST(Sphere, HitDepthsOfRaysMatchTheAnalyticDepth) {
   }
 }
 
+/// A bundled scene at a small size with more overrides.
+Scene bundled_with(const std::string& name, int size, std::vector<SceneOverride> ov) {
+  const std::string path = std::string(IAA_SOURCE_DIR) + "/data/scenes/" + name + ".toml";
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  ov.push_back({"image.width", std::to_string(size)});
+  ov.push_back({"image.height", std::to_string(size)});
+  return parse_scene(ss.str(), path, ov);
+}
+
+/// Every per-pixel output and the totals of two renders are the same.
+void expect_identical(const Film& a, const Film& b, const std::string& what) {
+  EXPECT_EQ(a.color, b.color) << what;
+  EXPECT_EQ(a.certificate, b.certificate) << what;
+  EXPECT_EQ(a.leaves, b.leaves) << what;
+  EXPECT_EQ(a.evals, b.evals) << what;
+  EXPECT_EQ(a.coverage, b.coverage) << what;
+  EXPECT_EQ(a.stats.evals, b.stats.evals) << what;
+  EXPECT_EQ(a.stats.leaves, b.stats.leaves) << what;
+}
+
+// The work is split into fixed 32-pixel root blocks (render.cpp), so the thread count can only
+// change which thread renders a block, never what comes out.
 TEST(Render, IdenticalForAnyThreadCount) {
   const Scene s = test::bundled("teardrop", 48);
   for (RenderMethod m : {RenderMethod::kIaa, RenderMethod::kAdaptive, RenderMethod::kPoint}) {
     const Film a = render(s, with_method(m), threads(1));
-    Exec e2 = threads(2);
-    e2.tile = 8;
-    const Film b = render(s, with_method(m), e2);
-    EXPECT_EQ(a.color, b.color);
-    EXPECT_EQ(a.certificate, b.certificate);
-    EXPECT_EQ(a.leaves, b.leaves);
-    EXPECT_EQ(a.evals, b.evals);
-    EXPECT_EQ(a.coverage, b.coverage);
-    EXPECT_EQ(a.stats.evals, b.stats.evals);
+    const Film b = render(s, with_method(m), threads(2));
+    expect_identical(a, b, std::string(method_name(m)));
+  }
+}
+
+// The same with shadow rays, whose results IAA shares between the leaves of a pixel
+// (ShadowCache): on twist, which shadows itself, and on chubs lit by five lights from all sides.
+// 40 pixels: four root blocks (32 + 8 on each axis), so two threads share the work.
+TEST(Render, IdenticalForAnyThreadCountWithShadows) {
+  const std::vector<std::pair<std::string, Scene>> scenes = {
+      {"twist", bundled_with("twist", 40, {{"render.shadows", "true"}})},
+      {"chubs, 5 lights",
+       bundled_with("chubs", 40,
+                    {{"render.shadows", "true"},
+                     {"light",
+                      "[{position = [3, 4, 5]}, {position = [-4, 2, 1], color = [0.5, 0.4, 0.3]},"
+                      " {position = [0, -5, 2], color = [0.2, 0.3, 0.6]},"
+                      " {position = [1, 1, -6], color = [0.3, 0.3, 0.3]},"
+                      " {position = [5, 0, 0], color = [0.4, 0.2, 0.2]}]"}})}};
+  ASSERT_EQ(scenes[1].second.lights.size(), 5u);
+  for (const auto& [name, s] : scenes) {
+    ASSERT_TRUE(s.settings.shadows) << name;
+    RenderSettings st = with_method(RenderMethod::kIaa);
+    st.shadows = true;
+    const Film a = render(s, st, threads(1));
+    const Film b = render(s, st, threads(2));
+    expect_identical(a, b, name);
+    // The shadow rays did something: some pixel differs from the render without them.
+    st.shadows = false;
+    const Film lit = render(s, st, threads(2));
+    EXPECT_NE(a.color, lit.color) << name << ": no pixel is in shadow";
+    // The baselines shade without the cache; twist is slow enough with IAA alone.
+    if (name == "twist") continue;
+    for (RenderMethod m : {RenderMethod::kAdaptive, RenderMethod::kPoint}) {
+      RenderSettings sm = with_method(m);
+      sm.shadows = true;
+      expect_identical(render(s, sm, threads(1)), render(s, sm, threads(2)),
+                       name + ", " + std::string(method_name(m)));
+    }
   }
 }
 

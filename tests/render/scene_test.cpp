@@ -86,11 +86,50 @@ TEST(Scene, DegenerateCamerasAreErrors) {
             std::string::npos);
 }
 
+// The field of view's limits are the documented [0.001, 179], and the message states them.
+TEST(Scene, FovLimitsAreStated) {
+  for (const char* fov : {"0", "0.0009", "179.5", "180", "-1"}) {
+    const std::string e = error_of(std::string(kMinimal) + "[camera]\nfov = " + fov + "\n");
+    EXPECT_NE(e.find("'camera.fov'"), std::string::npos) << fov << ": " << e;
+    EXPECT_NE(e.find("[0.001, 179]"), std::string::npos) << fov << ": " << e;
+  }
+  for (const char* fov : {"0.001", "1", "179"}) {
+    EXPECT_EQ(error_of(std::string(kMinimal) + "[camera]\nfov = " + fov + "\n"), "") << fov;
+  }
+}
+
 TEST(Scene, ExpressionUndefinedEverywhereIsAnError) {
   EXPECT_NE(
       error_of("[surface]\nexpression = \"sqrt(-1 - x^2)\"\nmin = [-1,-1,-1]\nmax = [1,1,1]\n")
           .find("undefined"),
       std::string::npos);
+}
+
+std::string surface(const std::string& expr, double half) {
+  const std::string h = std::to_string(half);
+  return "[surface]\nexpression = \"" + expr + "\"\nmin = [-" + h + ",-" + h + ",-" + h +
+         "]\nmax = [" + h + "," + h + "," + h + "]\n";
+}
+
+// One interval over the whole box cannot see that sqrt(x - x - 1) is undefined everywhere (x - x
+// over a box of width w is [-w, w]); sub-boxes narrower than 1 prove it.
+TEST(Scene, UndefinedEverywhereIsProvedOnSubBoxes) {
+  const std::string e = error_of(surface("sqrt(x - x - 1)", 1.05));
+  EXPECT_NE(e.find("'surface.expression'"), std::string::npos) << e;
+  EXPECT_NE(e.find("undefined (NaN) everywhere"), std::string::npos) << e;
+  // A box of width 20 needs sub-boxes below the first 8^3 grid.
+  EXPECT_NE(error_of(surface("sqrt(x - x - 1)", 10)).find("undefined"), std::string::npos);
+  EXPECT_NE(error_of(surface("log(-(x^2 + y^2 + z^2))", 3)).find("undefined"), std::string::npos);
+}
+
+// A surface defined anywhere in the box is never rejected: in a small ball off every grid centre,
+// at a single point, on a plane, near one face.
+TEST(Scene, DefinedSomewhereIsNotRejected) {
+  for (const char* expr : {"sqrt(0.001 - (x-0.3)^2 - (y-0.2)^2 - (z+0.1)^2)",
+                           "sqrt(-(x-0.3)^2 - (y-0.2)^2 - (z+0.1)^2)", "sqrt(x - 0.9999)",
+                           "sqrt(-x^2) + y", "log(x^2 + y^2 + z^2)"}) {
+    EXPECT_EQ(error_of(surface(expr, 1)), "") << expr;
+  }
 }
 
 TEST(Scene, OverridesAreAppliedAndChecked) {

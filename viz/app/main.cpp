@@ -25,6 +25,7 @@ struct FilesOptions {
 
 void run_files(const FilesOptions& o) {
   if (o.files.empty()) throw Error("no files given; see iaa-viz --help");
+  check_view(o.view);
   std::vector<Layer> layers;
   std::optional<ViewCamera> recorded;
   for (const std::string& f : o.files) {

@@ -2,6 +2,8 @@
 #include "viz/app/view_options.h"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -112,13 +114,12 @@ ViewCamera camera_of(const Scene& s) {
   return c;
 }
 
-void show(const std::vector<Layer>& layers, const ViewOptions& o,
-          const std::optional<ViewCamera>& recorded, const Scene* scene) {
-  const auto [w, h] = parse_size(o.size);
+void check_view(const ViewOptions& o) {
+  parse_size(o.size);
   if (o.fov != 0 && !(o.fov > 0 && o.fov < 180)) {
     throw SettingError("--fov must lie in (0, 180) degrees, got " + std::to_string(o.fov));
   }
-  // Checked before rendering so that a typo does not cost a render.
+  if (o.camera != "scene" && o.camera != "auto" && o.camera != "default") parse_camera(o.camera);
   if (!o.output.empty()) {
     if (tools::extension_of(o.output) != "png") {
       throw Error("-o " + o.output + ": iaa-viz writes PNG images; give a file ending in .png");
@@ -128,7 +129,24 @@ void show(const std::vector<Layer>& layers, const ViewOptions& o,
     if (!parent.empty() && !std::filesystem::is_directory(parent, ec)) {
       throw Error("-o " + o.output + ": the directory '" + parent.string() + "' does not exist");
     }
+    return;
   }
+  if (!have_display()) {
+    throw Error(
+        "no display to open a window on (DISPLAY is unset); give -o FILE.png to render "
+        "to a file");
+  }
+  if (!display_reachable()) {
+    throw Error(std::string("cannot open the X display DISPLAY=") + std::getenv("DISPLAY") +
+                "; check DISPLAY (and xauth), or give -o FILE.png to render to a file");
+  }
+}
+
+void show(const std::vector<Layer>& layers, const ViewOptions& o,
+          const std::optional<ViewCamera>& recorded, const Scene* scene) {
+  // Checked before rendering so that a typo does not cost a render (the callers check first too).
+  check_view(o);
+  const auto [w, h] = parse_size(o.size);
 
   std::unique_ptr<Scene> owned;
   if (!o.scene.empty()) {
@@ -168,16 +186,20 @@ void show(const std::vector<Layer>& layers, const ViewOptions& o,
   if (o.fov != 0) v.camera->fov_deg = o.fov;
 
   if (o.output.empty()) {
-    if (!have_display()) {
-      throw Error(
-          "no display to open a window on (DISPLAY is unset); give -o FILE.png to render "
-          "to a file");
-    }
     show_interactive(layers, v);
     return;
   }
+  // A PNG needs no display of the user's: without one, or when the one DISPLAY names cannot be
+  // opened (VTK would abort), render on a private Xvfb.
   std::unique_ptr<PrivateXServer> xserver;
-  if (!have_display()) xserver = PrivateXServer::start(w, h);
+  if (!have_display()) {
+    xserver = PrivateXServer::start(w, h);
+  } else if (!display_reachable()) {
+    std::fprintf(stderr,
+                 "iaa-viz: cannot open the X display DISPLAY=%s; rendering on a private Xvfb\n",
+                 std::getenv("DISPLAY"));
+    xserver = PrivateXServer::start(w, h);
+  }
   const RgbImage img = render_to_image(layers, v);
   tools::Image8 out(img.width, img.height, 3);
   out.data = img.rgb;

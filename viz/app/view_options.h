@@ -41,6 +41,11 @@ Scene load_scene_file(const std::string& path);
 /// The camera of a scene as a ViewCamera.
 ViewCamera camera_of(const Scene& s);
 
+/// Checks the options that do not depend on the data (size, --fov, -o, the syntax of --camera)
+/// and, for a window, that there is a display to open it on, so that a mistake is reported
+/// before a file is loaded or an enclosure computed. Throws iaa::Error.
+void check_view(const ViewOptions& o);
+
 /// Renders `layers` to o.output (PNG) or opens a window. `recorded` is a camera recorded in the
 /// data, `scene` a scene loaded by the caller (either gives `--camera scene` its camera).
 void show(const std::vector<Layer>& layers, const ViewOptions& o,

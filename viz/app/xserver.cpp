@@ -1,6 +1,7 @@
 // A private Xvfb server for headless rendering (see xserver.h).
 #include "xserver.h"
 
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
@@ -21,6 +22,29 @@ namespace iaa::viz {
 bool have_display() {
   const char* d = std::getenv("DISPLAY");
   return d && *d;
+}
+
+bool display_reachable() {
+  // The connection is kept open for the life of the process, never closed: when its last client
+  // disconnects, an X server started without -noreset (xvfb-run's) resets, and VTK's own
+  // connection right after would fail and abort.
+  static std::string probed;
+  static void* connection = nullptr;
+  const char* env = std::getenv("DISPLAY");
+  const std::string name = env ? env : "";
+  if (connection && probed == name) return true;
+  // libX11 is already loaded (VTK's X11 render window links it); looked up at run time so that
+  // iaa-viz need not link X11 itself.
+  void* x11 = dlopen("libX11.so.6", RTLD_LAZY);
+  if (!x11) return true;
+  using Open = void* (*)(const char*);
+  auto open = reinterpret_cast<Open>(dlsym(x11, "XOpenDisplay"));
+  if (!open) return true;
+  void* d = open(nullptr);
+  if (!d) return false;
+  connection = d;
+  probed = name;
+  return true;
 }
 
 std::unique_ptr<PrivateXServer> PrivateXServer::start(int width, int height) {
@@ -84,10 +108,11 @@ std::unique_ptr<PrivateXServer> PrivateXServer::start(int width, int height) {
     int status = 0;
     waitpid(pid, &status, 0);
     const bool missing = WIFEXITED(status) && WEXITSTATUS(status) == 127;
-    throw Error(missing ? "no X display (DISPLAY is unset) and Xvfb is not installed: install the "
-                          "'xvfb' package, or run under xvfb-run -a, or give a display"
-                        : "no X display (DISPLAY is unset) and Xvfb did not start; try running "
-                          "under xvfb-run -a");
+    throw Error(missing ? "no usable X display (DISPLAY unset or unreachable) and Xvfb is not "
+                          "installed: install the 'xvfb' package, or run under xvfb-run -a, or "
+                          "give a display"
+                        : "no usable X display (DISPLAY unset or unreachable) and Xvfb did not "
+                          "start; try running under xvfb-run -a");
   }
   const std::string display = ":" + number;
   setenv("DISPLAY", display.c_str(), 1);

@@ -34,4 +34,10 @@ class PrivateXServer {
 /// True when DISPLAY is set and not empty.
 bool have_display();
 
+/// True when the X display that DISPLAY names accepts a connection (XOpenDisplay through the
+/// libX11 that VTK loads). VTK aborts the process when it cannot open its window's display, so
+/// this is asked first. Also true when libX11 cannot be found (VTK then decides). A successful
+/// probe keeps its connection open until the process ends (see xserver.cpp).
+bool display_reachable();
+
 }  // namespace iaa::viz
