@@ -50,8 +50,9 @@ void run(const MeshOptions& o) {
   exec.threads = o.threads;
   exec.progress = &bar;
   meshing::MeshRun run = meshing::run_mesher(method, surface, o.p, exec);
-  TriangleSoup& mesh = run.soup;
-  round_to_file_precision(mesh);  // report on exactly what the file holds
+  // The report describes the mesh the mesher made, in double precision. (Rounding it to the
+  // file's float first moved vertices on a bounds face such as x = 1.1 out of the enclosure.)
+  const TriangleSoup& mesh = run.soup;
   if (mesh.triangles.empty()) {
     std::string why = "the " + std::string(meshing::method_label(method)) +
                       " mesher found no surface (no sign change of f was seen)";
