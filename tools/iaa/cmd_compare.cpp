@@ -33,9 +33,17 @@ void run(const CompareOptions& o) {
   if (o.threads < 0)
     throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
 #if !defined(IAA_HAVE_CGAL) || !defined(IAA_HAVE_OPENMESH)
-  throw Error(
-      "this iaa was built without CGAL or OpenMesh (IAA_WITH_CGAL / IAA_WITH_OPENMESH): "
-      "meshes cannot be read or ray-cast");
+  // Names exactly the option(s) this build switched off.
+  std::string missing;
+#ifndef IAA_HAVE_CGAL
+  missing = "CGAL (IAA_WITH_CGAL=OFF)";
+#endif
+#ifndef IAA_HAVE_OPENMESH
+  missing +=
+      std::string(missing.empty() ? "" : " and without ") + "OpenMesh (IAA_WITH_OPENMESH=OFF)";
+#endif
+  throw Error("this iaa was built without " + missing +
+              ": meshes cannot be read or ray-cast, no file was written");
 #else
   if (tools::extension_of(o.output) != "png") {
     throw Error("-o: the diff picture must be a .png file, got '" + o.output + "'");
