@@ -148,13 +148,17 @@ void setup(CLI::App& app) {
   app.add_option("-o,--output", o->output, "diff picture (.png)")->required();
   app.add_option("--report", o->report, "write the counts as JSON");
   app.add_option("--set", o->sets, "override a scene key, e.g. image.width=200 (repeatable)");
-  app.add_option("--rays", o->rays, "rays per pixel side for the mesh's coverage picture (1..16)")
+  app.add_option("--rays", o->rays,
+                 "rays per pixel side for the covered-area figure only (1..16); the verdicts "
+                 "use the whole-pixel beam test")
       ->capture_default_str();
   app.add_option("--threads", o->threads, "worker threads, 0 = all")->capture_default_str();
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.footer(
-      "A pixel shows the mesh when any ray through its area meets a triangle (an exact beam test,\n"
-      "so thin triangles are not missed between sample rays).\n"
+      "A pixel shows the mesh when any ray through its area meets a triangle: the pixel's whole\n"
+      "beam is tested against the AABB tree, so thin triangles are not missed between sample "
+      "rays.\n"
+      "Lost and wrong pixels come from that test; --rays only measures the covered area.\n"
       "Examples:\n"
       "  iaa mesh data/scenes/teardrop.toml -o teardrop.ply\n"
       "  iaa compare data/scenes/teardrop.toml --mesh teardrop.ply -o diff.png --report diff.json\n"
