@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interval.h"
 
 namespace iaa {
 
@@ -156,6 +157,7 @@ MeshReport analyze_mesh(const Mesh& mesh, const Tape* tape, const Enclosure* enc
 
 std::string encode_mesh(const Mesh& held, MeshFormat format, bool binary) {
   const TriMesh& mesh = held.impl_->mesh;
+  NearestScope nearest;  // the writer's float x y z: the nearest floats
   OpenMesh::IO::Options opt;
   if (format == MeshFormat::kPly) {
     if (binary) opt += OpenMesh::IO::Options::Binary;
@@ -191,11 +193,22 @@ Mesh decode_mesh(const std::string& bytes, MeshFormat format, const std::string&
   }
   if (!ok) throw Error(what + ": not a readable " + std::string(ext_of(format) + 1) + " mesh");
   m.originals = mesh.n_vertices();
-  // The reader gives x, y, z as float; a PLY written by iaa also holds them exactly.
+  // The reader gives x, y, z as float; a PLY written by iaa also holds them exactly. The exact
+  // values are taken only if every one rounds to the float the file holds beside it (as the
+  // writer made it): an edited file, or a vertex OpenMesh's importer copied for a non-manifold
+  // face (its properties are default, 0), leaves the whole mesh at float precision.
+  NearestScope nearest;
   OpenMesh::VPropHandleT<double> exact[3];
   bool have_exact = true;
   for (int a = 0; a < 3; ++a)
     have_exact = have_exact && mesh.get_property_handle(exact[a], kExactNames[a]);
+  for (const auto v : mesh.vertices()) {
+    if (!have_exact) break;
+    for (int a = 0; a < 3; ++a) {
+      const double e = mesh.property(exact[a], v);
+      if (!(static_cast<float>(e) == static_cast<float>(mesh.point(v)[a]))) have_exact = false;
+    }
+  }
   if (have_exact) {
     for (const auto v : mesh.vertices()) {
       TriMesh::Point p = mesh.point(v);

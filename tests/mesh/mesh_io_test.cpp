@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 #include "core/error.h"
 #include "enclose/octree.h"
@@ -75,6 +76,22 @@ TEST(MeshIo, OpenMeshPlyPrecisionAsMeasured) {
   EXPECT_FALSE(contains(encode_mesh(m, MeshFormat::kPly), "x_double"));
 }
 
+// x_double is believed only where it rounds to the float beside it: an edited file falls back to
+// float precision as a whole.
+TEST(MeshIo, InconsistentExactCoordinatesAreIgnored) {
+  std::string ply = encode_mesh(Mesh::from_triangles(tetrahedron()), MeshFormat::kPly);
+  const std::size_t line = ply.find("end_header\n") + 11;
+  std::istringstream first(ply.substr(line, ply.find('\n', line) - line));
+  std::string x, y, z, xd, yd, zd;
+  first >> x >> y >> z >> xd >> yd >> zd;
+  ASSERT_EQ(xd, "0.10000000000000001");
+  ply.replace(ply.find(xd, line), xd.size(), "0.5");
+  const Mesh m = decode_mesh(ply, MeshFormat::kPly, "edited.ply");
+  EXPECT_EQ(m.precision(), CoordinatePrecision::kFloat);
+  EXPECT_EQ(m.triangles().vertices[0].x, double(0.1f));
+  EXPECT_EQ(m.triangles().vertices[1].x, double(float(1.0 / 3)));
+}
+
 TEST(MeshIo, NonManifoldTrianglesAreKeptByCopyingVertices) {
   TriangleSoup t;  // three triangles on one edge
   t.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
@@ -87,6 +104,10 @@ TEST(MeshIo, NonManifoldTrianglesAreKeptByCopyingVertices) {
   EXPECT_EQ(analyze_mesh(held).nonmanifold_edges, 1u);
   const Mesh back = decode_mesh(encode_mesh(held, MeshFormat::kOff), MeshFormat::kOff, "t");
   EXPECT_EQ(back.triangle_count(), 3u);
+  // The copies carry their exact coordinates too.
+  const Mesh ply = decode_mesh(encode_mesh(held, MeshFormat::kPly), MeshFormat::kPly, "t");
+  EXPECT_EQ(ply.triangle_count(), 3u);
+  EXPECT_EQ(ply.precision(), CoordinatePrecision::kDouble);
 }
 
 // A mesh read back from a float file is judged with the float tolerance: the plane z = 0.1 in
