@@ -67,17 +67,16 @@ std::vector<Rgb> diff_picture(const Film& film, const Comparison& c) {
   std::vector<Rgb> out(c.pixel.size());
   for (std::size_t i = 0; i < c.pixel.size(); ++i) {
     const Rgb base = i < film.color.size() ? film.color[i] : Rgb{1, 1, 1};
-    // Faded: the render at 55% over white, so that the marks stand out.
-    Rgb p{0.55f * base.r + 0.45f, 0.55f * base.g + 0.45f, 0.55f * base.b + 0.45f};
+    Rgb p = faded(base);  // so that the marks stand out
     switch (c.pixel[i]) {
       case PixelAgreement::kLost:
-        p = {0.9f, 0.05f, 0.05f};
+        p = kLostColor;
         break;
       case PixelAgreement::kWrong:
-        p = {0.05f, 0.2f, 0.95f};
+        p = kWrongColor;
         break;
       case PixelAgreement::kUncertainEmpty:
-        p = {0.95f, 0.6f, 0.05f};
+        p = kUndecidedColor;
         break;
       default:
         break;

@@ -43,8 +43,19 @@ struct Comparison {
 /// size and order as the film). Throws iaa::Error when the sizes differ.
 Comparison compare_with_film(const Film& film, const std::vector<std::uint8_t>& mesh_shows);
 
-/// The diff picture in linear RGB: the render faded towards white, with lost pixels red, wrong
-/// pixels blue, and undecided pixels without mesh amber.
+/// The marks of the diff picture (linear RGB): three clear colours, none of them light.
+inline constexpr Rgb kLostColor{0.9f, 0.05f, 0.05f};       ///< red
+inline constexpr Rgb kWrongColor{0.05f, 0.2f, 0.95f};      ///< blue
+inline constexpr Rgb kUndecidedColor{0.95f, 0.6f, 0.05f};  ///< amber: undecided, no mesh
+
+/// A render colour faded towards white (55% of it over white), behind the marks: every channel
+/// at least 0.45.
+inline Rgb faded(const Rgb& c) {
+  return {0.55f * c.r + 0.45f, 0.55f * c.g + 0.45f, 0.55f * c.b + 0.45f};
+}
+
+/// The diff picture in linear RGB: the render faded towards white (faded()), with lost pixels
+/// kLostColor, wrong pixels kWrongColor, and undecided pixels without mesh kUndecidedColor.
 std::vector<Rgb> diff_picture(const Film& film, const Comparison& comparison);
 
 }  // namespace iaa

@@ -48,7 +48,8 @@ void check_mesh(const TriangleSoup& mesh, const std::string& what) {
   }
 }
 
-MeshReport analyze_mesh(const TriangleSoup& mesh, const Tape* tape, const Enclosure* enclosure) {
+MeshReport analyze_mesh(const TriangleSoup& mesh, const Tape* tape, const Enclosure* enclosure,
+                        CoordinatePrecision precision) {
   MeshReport r;
   const std::size_t nv = mesh.vertices.size();
   r.triangles = mesh.triangles.size();
@@ -137,7 +138,11 @@ MeshReport analyze_mesh(const TriangleSoup& mesh, const Tape* tape, const Enclos
         bool in_bounds = true;
         for (int a = 0; a < 3; ++a) {
           const double size = B.hi[a] - B.lo[a];
-          const double tol = 1e-9 * size;
+          // See CoordinatePrecision: arithmetic slack, plus the float rounding of the stored
+          // coordinate when the mesh came from a float file.
+          double tol = 1e-9 * size;
+          if (precision == CoordinatePrecision::kFloat)
+            tol += std::ldexp(std::fabs(p[a]), -24) + std::ldexp(1.0, -150);
           const double u0 = (p[a] - tol - B.lo[a]) / size * n,
                        u1 = (p[a] + tol - B.lo[a]) / size * n;
           lo[a] = std::max<std::int64_t>(0, static_cast<std::int64_t>(std::floor(u0)));

@@ -31,10 +31,25 @@ struct MeshReport {
   std::int64_t outside_enclosure = -1;
 };
 
+/// How exactly the coordinates handed to analyze_mesh are known; it sets how far outside a leaf
+/// box a vertex may lie and still count as inside the enclosure.
+enum class CoordinatePrecision {
+  /// As the mesher computed them (double). A vertex the mesher put on a leaf face may miss the
+  /// face by the few double roundings of the face's and the test's own arithmetic: the test
+  /// allows 1e-9 of the bounds' size per axis, far above those roundings (~1e-16 relative) and
+  /// below any leaf (2^-29 of the size at the deepest, depth 21 + refine 8).
+  kDouble,
+  /// Rounded to float, as a mesh file holding float coordinates gives them back: the true
+  /// coordinate c lies within half a float gap of the stored value v, |c - v| <= 2^-24 |v| (plus
+  /// 2^-150 below the normal range), which is allowed on top of the kDouble slack.
+  kFloat,
+};
+
 /// Analyses a mesh. With a tape, evaluates f at every vertex; with an enclosure, counts vertices
-/// that lie outside all of its leaves (allowing a relative tolerance of 1e-9 of the bounds).
+/// that lie outside all of its leaves, within the tolerance `precision` stands for.
 MeshReport analyze_mesh(const TriangleSoup& mesh, const Tape* tape = nullptr,
-                        const Enclosure* enclosure = nullptr);
+                        const Enclosure* enclosure = nullptr,
+                        CoordinatePrecision precision = CoordinatePrecision::kDouble);
 
 /// Throws iaa::Error when the mesh cannot be used: no triangles, a non-finite vertex coordinate,
 /// or a triangle index out of range. `what` names the mesh in the message (a path).

@@ -1,10 +1,11 @@
-// `compare`: the per-pixel verdicts on hand-made data, and a sphere mesh against the sphere's own
-// render: no wrong pixels, lost pixels only along the silhouette, and a hole cut into the mesh
-// shows up as lost pixels.
+// `compare`: the per-pixel verdicts and the diff picture's colours on hand-made data, and a sphere
+// mesh against the sphere's own render: no wrong pixels, lost pixels only along the silhouette, and
+// a hole cut into the mesh shows up as lost pixels.
 #include "compare/compare.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -48,6 +49,48 @@ TEST(Compare, VerdictsPerPixel) {
   EXPECT_EQ(c.counts.wrong, 1u);
   EXPECT_EQ(diff_picture(film, c).size(), 6u);
   EXPECT_THROW(compare_with_film(film, {0, 1}), Error);
+}
+
+// Every verdict in its colour: lost red, wrong blue, undecided-without-mesh amber, and every
+// other pixel (agreement, undecided with mesh, not rendered) the render faded towards white.
+TEST(Compare, DiffPictureShowsEachVerdictInItsColour) {
+  Film film(4, 2);
+  film.certificate = {PixelCertificate::kEmpty,       PixelCertificate::kEmpty,
+                      PixelCertificate::kCovered,     PixelCertificate::kCovered,
+                      PixelCertificate::kUncertain,   PixelCertificate::kUncertain,
+                      PixelCertificate::kNotRendered, PixelCertificate::kCovered};
+  for (std::size_t i = 0; i < film.color.size(); ++i) {
+    film.color[i] = {0.1f * float(i), 0.5f, 1.0f - 0.1f * float(i)};  // a different colour each
+  }
+  const std::vector<std::uint8_t> mesh = {0, 1, 1, 0, 1, 0, 0, 1};
+  const Comparison c = compare_with_film(film, mesh);
+  const std::vector<Rgb> pic = diff_picture(film, c);
+  ASSERT_EQ(pic.size(), 8u);
+  const Rgb expected[8] = {faded(film.color[0]), kWrongColor,          faded(film.color[2]),
+                           kLostColor,           faded(film.color[4]), kUndecidedColor,
+                           faded(film.color[6]), faded(film.color[7])};
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_EQ(pic[i], expected[i]) << "pixel " << i << ": " << agreement_name(c.pixel[i]);
+  }
+  EXPECT_EQ(faded({0, 0, 0}), (Rgb{0.45f, 0.45f, 0.45f}));
+  EXPECT_EQ(faded({1, 1, 1}), (Rgb{1, 1, 1}));
+}
+
+// Clear colours: a faded render has every channel >= 0.45, each mark some channel <= 0.05, so no
+// mark can be mistaken for the render; the marks differ from each other by >= 0.5 in a channel.
+TEST(Compare, DiffColoursAreClear) {
+  auto lo = [](const Rgb& c) { return std::min(c.r, std::min(c.g, c.b)); };
+  auto far = [](const Rgb& a, const Rgb& b) {
+    return std::max(std::fabs(a.r - b.r), std::max(std::fabs(a.g - b.g), std::fabs(a.b - b.b)));
+  };
+  for (const Rgb& m : {kLostColor, kWrongColor, kUndecidedColor}) EXPECT_LE(lo(m), 0.05f);
+  for (float v : {0.0f, 0.3f, 1.0f}) EXPECT_GE(lo(faded({v, 1 - v, v / 2})), 0.45f);
+  EXPECT_GE(far(kLostColor, kWrongColor), 0.5f);
+  EXPECT_GE(far(kLostColor, kUndecidedColor), 0.5f);
+  EXPECT_GE(far(kWrongColor, kUndecidedColor), 0.5f);
+  EXPECT_GT(kLostColor.r, 0.8f);       // red
+  EXPECT_GT(kWrongColor.b, 0.8f);      // blue
+  EXPECT_GT(kUndecidedColor.g, 0.5f);  // amber: red and green
 }
 
 #ifdef IAA_HAVE_CGAL
@@ -128,6 +171,20 @@ TEST(Compare, AHoleInTheMeshShowsAsLostPixels) {
   const Comparison cmp = compare_with_film(c.film, view_mesh(c.mesh, c.scene, 1).any);
   EXPECT_EQ(cmp.counts.wrong, 0u);
   EXPECT_GT(cmp.counts.lost, lost_before + 50);
+  // The hole is red in the diff picture, and only the lost pixels are.
+  const std::vector<Rgb> pic = diff_picture(c.film, cmp);
+  std::uint64_t red = 0;
+  for (std::size_t i = 0; i < pic.size(); ++i) {
+    const bool lost = cmp.pixel[i] == PixelAgreement::kLost;
+    red += pic[i] == kLostColor;
+    if (!lost) {
+      EXPECT_NE(pic[i], kLostColor) << "pixel " << i;
+    }
+    if (cmp.pixel[i] == PixelAgreement::kBothSurface) {
+      EXPECT_EQ(pic[i], faded(c.film.color[i])) << "pixel " << i;
+    }
+  }
+  EXPECT_EQ(red, cmp.counts.lost);
 }
 
 #ifdef IAA_HAVE_VIZ

@@ -31,7 +31,9 @@ expect_error "line 1, column" --expr 'x^2 + * y' --bounds -1:1,-1:1,-1:1
 expect_error "no surface" --depth 3
 expect_error "cannot read" "$tmp/no-such-scene.toml"
 
-# Unwritable outputs: a missing directory, a read-only one, a wrong extension.
+# Unwritable outputs: a missing directory, a read-only one (skipped as root, who may write there),
+# ones no one can write, root included (a parent that is a regular file, an output that is a
+# directory, a report under a regular file), a wrong extension.
 "$bin/iaa" enclose "${sphere[@]}" -d 3 -q -o "$tmp/missing/out.vtu" > /dev/null 2> "$tmp/err.txt"
 [[ $? -eq 1 ]] && grep -q "does not exist" "$tmp/err.txt" || { echo "FAIL: missing directory"; fail=1; }
 mkdir "$tmp/ro" && chmod a-w "$tmp/ro"
@@ -39,6 +41,25 @@ if [[ $(id -u) -ne 0 ]]; then
   "$bin/iaa" enclose "${sphere[@]}" -d 3 -q -o "$tmp/ro/out.vtu" > /dev/null 2> "$tmp/err.txt"
   [[ $? -eq 1 ]] && grep -q "not writable" "$tmp/err.txt" || { echo "FAIL: read-only directory"; fail=1; }
 fi
+mkdir "$tmp/w" && touch "$tmp/w/file" && mkdir "$tmp/w/dir.vtu"
+# expect_unwritable WHAT PATTERN ARGS...: exit code 1, the message, and $tmp/w unchanged.
+expect_unwritable() {
+  local what="$1" pattern="$2"
+  shift 2
+  "$bin/iaa" enclose "${sphere[@]}" -d 3 -q "$@" > /dev/null 2> "$tmp/err.txt"
+  local rc=$?
+  local left
+  left="$(cd "$tmp/w" && find . -mindepth 1 | sort | tr '\n' ' ')"
+  if [[ $rc -ne 1 ]] || ! grep -q -- "$pattern" "$tmp/err.txt" || [[ "$left" != "./dir.vtu ./file " ]] ||
+    [[ -s "$tmp/w/file" ]]; then
+    echo "FAIL (rc=$rc): $what -> $(cat "$tmp/err.txt") [left: $left]"
+    fail=1
+  fi
+}
+expect_unwritable "parent is a file" "cannot write '$tmp/w/file/out.vtu'" -o "$tmp/w/file/out.vtu"
+expect_unwritable "output is a directory" "cannot write '$tmp/w/dir.vtu'" -o "$tmp/w/dir.vtu"
+expect_unwritable "report under a file" "cannot write '$tmp/w/file/r.json'" \
+  -o "$tmp/w/out.vtu" --report "$tmp/w/file/r.json"
 "$bin/iaa" enclose "${sphere[@]}" -d 3 -q -o "$tmp/out.png" > /dev/null 2> "$tmp/err.txt"
 [[ $? -eq 1 ]] && grep -q "must be a .vtu" "$tmp/err.txt" || { echo "FAIL: wrong extension"; fail=1; }
 

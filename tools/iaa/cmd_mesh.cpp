@@ -50,9 +50,7 @@ void run(const MeshOptions& o) {
   exec.threads = o.threads;
   exec.progress = &bar;
   meshing::MeshRun run = meshing::run_mesher(method, surface, o.p, exec);
-  TriangleSoup& mesh = run.soup;
-  round_to_file_precision(mesh);  // report on exactly what the file holds
-  if (mesh.triangles.empty()) {
+  if (run.soup.triangles.empty()) {
     std::string why = "the " + std::string(meshing::method_label(method)) +
                       " mesher found no surface (no sign change of f was seen)";
     if (run.details.contains("unmeshed_possible_leaves") &&
@@ -62,8 +60,13 @@ void run(const MeshOptions& o) {
     }
     throw Error(why + "; no file was written");
   }
-  std::size_t duplicated = 0;
-  const std::string bytes = encode_mesh(mesh, format, o.binary, &duplicated);
+  // One OpenMesh TriMesh (double points) from here on: the report is computed on it and the file
+  // written from it. The report judges the mesher's double coordinates; a PLY file holds them
+  // exactly (x_double ...), an OBJ or OFF file their float rounding (mesh_io.h).
+  const Mesh mesh = Mesh::from_triangles(run.soup);
+  run.soup = {};
+  const std::size_t duplicated = mesh.duplicated_vertices();
+  const std::string bytes = encode_mesh(mesh, format, o.binary);
   tools::write_text_atomically(o.output, bytes);
 
   std::optional<Enclosure> enc = std::move(run.enclosure);
@@ -108,6 +111,9 @@ void run(const MeshOptions& o) {
     j["settings"] = run.details;
     j["mesh_file"] = o.output;
     j["vertices_duplicated_on_write"] = duplicated;
+    j["mesh_file_coordinates"] = format == MeshFormat::kPly
+                                     ? "float x y z, and exact double x_double y_double z_double"
+                                     : "float x y z (rounded from the mesher's double)";
     tools::write_text_atomically(o.report, j.dump(2) + "\n");
     std::printf("report       %s\n", o.report.c_str());
   }
