@@ -339,7 +339,7 @@ Interval unit_dot(const IGrad& g, const IBox& dirs) {
 
 }  // namespace
 
-Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces) {
+Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, double stop_above) {
   // Only the normals at the first hits matter, and those lie where the surface may be: the hit
   // segment is cut into `pieces` in depth, a piece whose F excludes 0 holds no hit and is left
   // out, and the estimator is the hull over the others. Smaller boxes also give sharper
@@ -356,7 +356,7 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces) {
     if (partial) return Interval::whole();
     if (n > 1 && !g.v.contains_zero()) continue;
     out = out.is_empty() ? unit_dot(g, s.dirs) : hull(out, unit_dot(g, s.dirs));
-    if (out.width() > 2.0) return out;  // already unbounded or wider than any threshold
+    if (out.width() > stop_above) return out;  // the hull only grows: the decision is made
   }
   return out.is_empty() ? Interval::whole() : out;
 }

@@ -48,6 +48,11 @@ bool tighten_far(RenderContext& ctx, BeamSearch* s, double step);
 /// The estimator of a Full beam (DESIGN.md, "IAA pixel subdivision", step 3): the interval dot
 /// product of the unit normal grad F / |grad F| over the hit box with the unit beam direction.
 /// Returns the whole line when |grad F| cannot be bounded away from 0 (or f is partial there).
-Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces = 1);
+///
+/// With `pieces` > 1 the hit segment is cut into that many depth pieces, those whose F excludes 0
+/// (no hit there) are left out and the result is the hull over the others. The evaluation stops
+/// once that hull is wider than `stop_above` (the caller's threshold: the decision is made).
+Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces = 1,
+                        double stop_above = 2.0);
 
 }  // namespace iaa

@@ -182,7 +182,7 @@ class Renderer {
           tighten_far(ctx_, &s,
                       st_.depth_tolerance * su_.frame.scale *
                           std::max(rect.width(), rect.height()) * s.t_near);
-          est = beam_estimator(ctx_, s, kEstimatorPieces);
+          est = beam_estimator(ctx_, s, kEstimatorPieces, st_.estimator_threshold);
         }
         if (t) t->estimator = est;
         if (est.width() <= st_.estimator_threshold) {
