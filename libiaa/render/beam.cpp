@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 
+#include "core/error.h"
 #include "render/camera.h"
 #include "render/piece_stack.h"
 
@@ -271,6 +272,24 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     trace->t_far = out.t_far;
     trace->hit_box = out.hit_box;
     trace->full_reason = reason;
+  }
+  return out;
+}
+
+BeamSearch inherit_full(const RenderContext& ctx, const PixelRect& rect, const BeamSearch& parent,
+                        BeamTrace* trace) {
+  IAA_CHECK(parent.result == BeamResult::kFull);
+  BeamSearch out = parent;
+  out.dirs = ctx.setup.frame.dir_box(rect);
+  out.hit_box = segment_box(ctx.setup.frame.eye, out.dirs, Interval(out.t_near, out.t_far));
+  if (trace) {
+    trace->searched = Interval::empty();  // nothing was searched
+    trace->result = out.result;
+    trace->t_near = out.t_near;
+    trace->t_far = out.t_far;
+    trace->hit_box = out.hit_box;
+    trace->full_reason =
+        "inside a Full parent at the last level: its proof covers this beam, no search";
   }
   return out;
 }

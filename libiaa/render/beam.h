@@ -39,6 +39,13 @@ struct BeamSearch {
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
                         const BeamSearch* parent, BeamTrace* trace);
 
+/// A beam inside a Full beam `parent`, without any search: every ray of the parent, so every ray
+/// of this beam, meets the surface in [parent t_near, parent t_far], and the parent's proof (its
+/// slices contain this beam's slices) carries over. Used at the last level, where a tighter
+/// t_near would change nothing but the shading point's bracket. Records `trace` when not null.
+BeamSearch inherit_full(const RenderContext& ctx, const PixelRect& rect, const BeamSearch& parent,
+                        BeamTrace* trace);
+
 /// Tightens t_far of a Full beam: the slices at t_near + step 2^k (below t_far) are tried
 /// front to back, and the first with the sign opposite to the proof's near slice becomes t_far
 /// (then a few bisections towards t_near). The proof stays valid: its near slice and continuity

@@ -166,7 +166,9 @@ class Renderer {
     BeamTrace* t = tr ? &bt : nullptr;
     const std::uint64_t e0 = ctx_.evals;
     const double area = rect.area();
-    BeamSearch s = eval_ray_set(ctx_, rect, range, parent_full, t);
+    BeamSearch s = parent_full && level >= st_.max_level
+                       ? inherit_full(ctx_, rect, *parent_full, t)
+                       : eval_ray_set(ctx_, rect, range, parent_full, t);
     BeamDecision decision = BeamDecision::kBackground;
     if (s.result == BeamResult::kMiss) {
       acc.color = acc.color + area * background(ctx_);

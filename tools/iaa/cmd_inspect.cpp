@@ -166,9 +166,14 @@ void print_tree(const Scene& scene, const RenderSettings& st, const PixelTrace& 
     const BeamTrace& b = tr.beams[i];
     const std::string ind(static_cast<std::size_t>(2 * depth[i]), ' ');
     std::printf("%s#%zu %s %s\n", ind.c_str(), i, beam_kind(b).c_str(), rect_text(b.rect).c_str());
-    std::printf("%s  | search t in %s: %zu depth tests, %llu evaluations\n", ind.c_str(),
-                interval_text(b.searched, 9).c_str(), b.pieces.size(),
-                static_cast<unsigned long long>(b.evals));
+    if (b.searched.is_empty() && b.pieces.empty()) {
+      std::printf("%s  | no depth search: %llu evaluations\n", ind.c_str(),
+                  static_cast<unsigned long long>(b.evals));
+    } else {
+      std::printf("%s  | search t in %s: %zu depth tests, %llu evaluations\n", ind.c_str(),
+                  interval_text(b.searched, 9).c_str(), b.pieces.size(),
+                  static_cast<unsigned long long>(b.evals));
+    }
     for (const DepthPieceTrace& p : b.pieces) {
       std::printf("%s  |   t %-30s %-11s F %-28s %s%s\n", ind.c_str(),
                   interval_text(p.t, 9).c_str(), p.mean_value ? "mean-value" : "",
