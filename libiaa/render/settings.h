@@ -39,7 +39,7 @@ struct RenderSettings {
   /// kIaa: a Full beam is shaded once when the width of its estimator interval (the interval
   /// dot product of the unit normal over the hit box with the unit beam direction) is at most
   /// this (0..2; 0 always splits down to max_level).
-  double estimator_threshold = 1.0;
+  double estimator_threshold = 1.5;
   /// kIaa: a depth piece of a beam stops being bisected when its depth extent is at most
   /// depth_tolerance times the beam's lateral width at that depth (relative; 1e-6..1e3).
   /// Soundness never depends on it (a Miss is only claimed when every piece excludes 0).
