@@ -93,7 +93,7 @@ double cone_half_angle(const IBox& b) {
 }  // namespace
 
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
-                        const BeamSearch* parent, BeamTrace* trace) {
+                        const BeamSearch* parent, BeamTrace* trace, bool prove_full) {
   BeamSearch out;
   const RenderSetup& su = ctx.setup;
   const Vec3& eye = su.frame.eye;
@@ -203,6 +203,16 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   // Full coverage: opposite proved signs on the slices at t_near and at some t_far >= t_near,
   // with the box of [t_near, t_far] inside the bounds and f continuous on it.
   const char* reason = "";
+  if (!prove_full) {
+    if (trace) {
+      trace->result = out.result;
+      trace->t_near = out.t_near;
+      trace->t_far = out.t_far;
+      trace->hit_box = out.hit_box;
+      trace->full_reason = "full coverage not tried (the caller does not need it)";
+    }
+    return out;
+  }
   // The near slice may be at t_near or a little before it: no ray meets the surface in the
   // excluded pieces in front of t_near, so a sign proved at t_s <= t_near still brackets the first
   // hit of every ray in [t_near, t_far]. Close to the surface intervals cannot tell the sign.

@@ -36,8 +36,11 @@ struct BeamSearch {
 /// `parent`, when not null, is a Full result of a beam that contains this one: its slices
 /// contain this beam's slices, so its proof carries over and this beam is Full without new
 /// slice evaluations (t_far is only tightened where cheap).
+///
+/// With `prove_full` false a beam that is not a Miss is returned as Partial without trying the
+/// slices for full coverage (a caller that would gain nothing from the proof).
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
-                        const BeamSearch* parent, BeamTrace* trace);
+                        const BeamSearch* parent, BeamTrace* trace, bool prove_full = true);
 
 /// A beam inside a Full beam `parent`, without any search: every ray of the parent, so every ray
 /// of this beam, meets the surface in [parent t_near, parent t_far], and the parent's proof (its

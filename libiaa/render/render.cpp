@@ -166,9 +166,13 @@ class Renderer {
     BeamTrace* t = tr ? &bt : nullptr;
     const std::uint64_t e0 = ctx_.evals;
     const double area = rect.area();
-    BeamSearch s = parent_full && level >= st_.max_level
+    // At the last level a proof of full coverage only decides the pixel's certificate (and how
+    // the part's shading point is found): once another part of the pixel is certified covered
+    // it is not tried.
+    const bool last = level >= st_.max_level;
+    BeamSearch s = parent_full && last
                        ? inherit_full(ctx_, rect, *parent_full, t)
-                       : eval_ray_set(ctx_, rect, range, parent_full, t);
+                       : eval_ray_set(ctx_, rect, range, parent_full, t, !(last && acc.any_full));
     BeamDecision decision = BeamDecision::kBackground;
     if (s.result == BeamResult::kMiss) {
       acc.color = acc.color + area * background(ctx_);
