@@ -60,7 +60,9 @@ std::string quoted(const std::string& s) {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("iaa_inspect_cli_" + name);
+  // The process id keeps two test runs on one machine (two build trees) apart.
+  const fs::path d =
+      fs::temp_directory_path() / ("iaa_inspect_cli_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
