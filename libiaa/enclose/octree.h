@@ -69,6 +69,8 @@ struct Enclosure {
   /// test and cell centres for the mean-value form. Each point is evaluated at most once per
   /// parallel subtree.
   std::uint64_t corner_evaluations = 0;
+  /// Corner signs proved by the parent cell's mean-value expansion alone (no evaluation of f).
+  std::uint64_t expansion_signs = 0;
   /// Number of leaves per depth (index) and class ([0] crossing, [1] possible); its size is
   /// depth + refine_possible + 1 of the settings that produced it.
   std::vector<std::array<std::uint64_t, 2>> counts_by_depth;
