@@ -25,6 +25,7 @@ struct Options {
   int image = 500;
   int runs = 3;
   int threads = 0;
+  bool no_compare = false;
   std::string json;
 };
 
@@ -60,27 +61,45 @@ void run(const Options& o) {
     s.bounds = scene.bounds;
     RenderSettings rs = scene.settings;
     rs.method = RenderMethod::kIaa;
-    const Film film = render(scene, rs, exec);
+    const Film film = o.no_compare ? Film{} : render(scene, rs, exec);
     for (meshing::Method m : methods) {
       // Median time over runs (CGAL, the slowest, once); the mesh of the last run is compared.
       const int runs = m == meshing::Method::kCgal ? 1 : o.runs;
       std::vector<double> times;
+      static const char* kPhases[] = {"seconds_enclose", "seconds_signs", "seconds_extract",
+                                      "seconds_vertices"};
+      std::vector<std::vector<double> > phases(4);
       meshing::MeshRun last;
       for (int r = 0; r < runs; ++r) {
         last = meshing::run_mesher(m, s, o.p, exec);
         times.push_back(last.seconds);
+        for (int ph = 0; ph < 4; ++ph) {
+          if (last.details.contains(kPhases[ph]))
+            phases[ph].push_back(last.details[kPhases[ph]].get<double>());
+        }
       }
-      std::sort(times.begin(), times.end());
-      const double t = times[times.size() / 2];
+      const auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+      };
+      const double t = median(times);
       round_to_file_precision(last.soup);
       CompareCounts k;
-      if (!last.soup.empty())
-        k = compare_with_film(film, view_mesh(last.soup, scene, 1, exec).any).counts;
-      else
-        k.lost = film.stats.covered;
+      if (!o.no_compare) {
+        if (!last.soup.empty())
+          k = compare_with_film(film, view_mesh(last.soup, scene, 1, exec).any).counts;
+        else
+          k.lost = film.stats.covered;
+      }
       std::string notes;
       if (last.details.contains("unmeshed_possible_leaves")) {
         notes = last.details["unmeshed_possible_leaves"].dump() + " possible leaves unmeshed";
+      }
+      if (!phases[0].empty()) {  // the octree's phases, medians over the runs
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "; phases %.3f/%.3f/%.3f/%.3f s", median(phases[0]),
+                      median(phases[1]), median(phases[2]), median(phases[3]));
+        notes += buf;
       }
       std::printf("%-11s %-7s %9.3f %10zu %8llu %8llu %10llu  %s\n", name.c_str(),
                   meshing::method_label(m), t, last.soup.triangles.size(),
@@ -101,7 +120,8 @@ void run(const Options& o) {
   }
   std::printf(
       "lost: IAA certifies surface in the pixel, the mesh shows none; wrong: IAA certifies\n"
-      "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n");
+      "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n"
+      "octree phases: enclosure / grid signs / loop extraction / vertex placement.\n");
   if (!o.json.empty()) tools::write_text_atomically(o.json, out.dump(2) + "\n");
 #endif
 }
@@ -122,6 +142,8 @@ void setup(CLI::App& app) {
   app.add_option("--runs", o->runs, "timed runs per mesher (median; cgal runs once)")
       ->capture_default_str();
   app.add_option("--threads", o->threads, "worker threads, 0 = all")->capture_default_str();
+  app.add_flag("--no-compare", o->no_compare,
+               "time the meshers only: no render, no lost or wrong pixels (shown as 0)");
   app.add_option("--json", o->json, "also write the table as JSON");
   app.footer(
       "Examples:\n"
