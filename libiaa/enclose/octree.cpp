@@ -201,6 +201,7 @@ struct Shared {
   int max_depth;  ///< depth + refine_possible
   std::uint64_t max_boxes;
   bool centered_form;
+  bool all_corner_signs;
   const Progress* progress = nullptr;
   std::atomic<std::uint64_t> leaves{0};
   std::atomic<bool> over_limit{false};
@@ -286,7 +287,10 @@ class SubtreeWorker {
       own();
       if (!f.contains_zero()) return;  // certified empty (or f undefined on the whole cell)
     }
+    signs_ = 0;  // where f may be undefined (partial), no corner sign is recorded
+    n_missing_ = 0;
     if (!partial && corners_have_both_signs(idx, d, parent)) {
+      if (sh_.all_corner_signs) all_signs(idx, d, parent);
       emit(idx, d, CellClass::kCrossing, f);
       return;
     }
@@ -297,7 +301,7 @@ class SubtreeWorker {
     if (d < sh_.max_depth) {
       split(idx, d, box, exp_valid ? &own_exp : nullptr);  // refine a possible leaf
     } else {
-      emit(idx, d, CellClass::kPossible, f);
+      emit(idx, d, CellClass::kPossible, f);  // all its corners were looked at
     }
   }
 
@@ -316,7 +320,7 @@ class SubtreeWorker {
 
  private:
   void emit(const Index& idx, int d, CellClass cls, const Interval& f) {
-    cells_.push_back(Cell{idx, static_cast<std::uint8_t>(d), cls, f});
+    cells_.push_back(Cell{idx, static_cast<std::uint8_t>(d), cls, signs_, f});
     if (++pending_ == 256) flush();
   }
 
@@ -384,29 +388,52 @@ class SubtreeWorker {
   bool corners_have_both_signs(const Index& idx, int d, const Expansion* parent) {
     const int shift = sh_.max_depth - d;
     bool pos = false, neg = false;
-    std::uint32_t missing[8];
-    int n_missing = 0;
+    n_missing_ = 0;
+    signs_ = 0;
     for (std::uint32_t c = 0; c < 8; ++c) {
       const std::int8_t* sign =
           cache_.find((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
                       (idx[2] + ((c >> 2) & 1)) << shift);
       if (!sign) {
-        missing[n_missing++] = c;
+        missing_[n_missing_++] = c;
         continue;
       }
+      record(c, *sign);
       pos |= *sign > 0;
       neg |= *sign < 0;
     }
-    for (int k = 0; k < n_missing && !(pos && neg); ++k) {
-      const std::uint32_t c = missing[k];
-      const int off[3] = {int((idx[0] & 1) + (c & 1)), int((idx[1] & 1) + ((c >> 1) & 1)),
-                          int((idx[2] & 1) + ((c >> 2) & 1))};
-      const int sign = corner_sign((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
-                                   (idx[2] + ((c >> 2) & 1)) << shift, parent, off);
+    int k = 0;
+    for (; k < n_missing_ && !(pos && neg); ++k) {
+      const int sign = missing_sign(idx, d, parent, missing_[k]);
       pos |= sign > 0;
       neg |= sign < 0;
     }
+    // The corners not looked at stay in missing_ for all_signs().
+    std::copy(missing_ + k, missing_ + n_missing_, missing_);
+    n_missing_ -= k;
     return pos && neg;
+  }
+
+  /// After corners_have_both_signs: proves the signs of the corners it did not look at.
+  void all_signs(const Index& idx, int d, const Expansion* parent) {
+    for (int k = 0; k < n_missing_; ++k) missing_sign(idx, d, parent, missing_[k]);
+    n_missing_ = 0;
+  }
+
+  /// The sign of corner c of cell (idx, d), not in the cache: found and recorded.
+  int missing_sign(const Index& idx, int d, const Expansion* parent, std::uint32_t c) {
+    const int shift = sh_.max_depth - d;
+    const int off[3] = {int((idx[0] & 1) + (c & 1)), int((idx[1] & 1) + ((c >> 1) & 1)),
+                        int((idx[2] & 1) + ((c >> 2) & 1))};
+    const int sign = corner_sign((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
+                                 (idx[2] + ((c >> 2) & 1)) << shift, parent, off);
+    record(c, sign);
+    return sign;
+  }
+
+  void record(std::uint32_t c, int sign) {
+    if (sign < 0) signs_ |= std::uint16_t(1u << (2 * c));
+    if (sign > 0) signs_ |= std::uint16_t(2u << (2 * c));
   }
 
   Shared& sh_;
@@ -419,6 +446,11 @@ class SubtreeWorker {
   std::uint64_t expansion_signs_ = 0;
   std::uint64_t pending_ = 0;
   std::uint64_t visits_ = 0;
+  // The leaf being classified: its proved corner signs (Cell::corner_signs) and the corners not
+  // looked at yet.
+  std::uint16_t signs_ = 0;
+  std::uint32_t missing_[8];
+  int n_missing_ = 0;
 };
 
 /// Morton order of two indices of one depth, bits interleaved z y x from the most significant
@@ -509,6 +541,7 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   sh.max_depth = settings.depth + settings.refine_possible;
   sh.max_boxes = settings.max_boxes;
   sh.centered_form = settings.centered_form;
+  sh.all_corner_signs = settings.all_corner_signs;
   sh.progress = exec.progress;
 
   Enclosure out;

@@ -517,6 +517,9 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     // deep as the shallowest leaf (empty children included: a leaf's face is cut into the faces
     // of the children of the same-depth node across it), sorted and unique (z-lines order = axis
     // 2 keys). Codes grow with depth, so those internal nodes are a suffix of `in`.
+    // Corner keys carry the corner's proved sign in 2 low bits where the key leaves room (a key
+    // has 21 bits per coordinate; at level <= 19 its top 2 bits are 0).
+    const int sign_shift = level <= 19 ? 2 : 0;
     int min_depth = level;
     for (const Cell& c : enc.cells) min_depth = std::min(min_depth, int(c.depth));
     const std::size_t first = static_cast<std::size_t>(
@@ -538,7 +541,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       for (int k = 0; k < 27; ++k) {
         const IPoint p{(2 * idx[0] + U64(k % 3)) * h, (2 * idx[1] + U64((k / 3) % 3)) * h,
                        (2 * idx[2] + U64(k / 9)) * h};
-        keys[8 * n_leaves + 27 * i + std::size_t(k)] = line_key(2, p);
+        keys[8 * n_leaves + 27 * i + std::size_t(k)] = line_key(2, p) << sign_shift;
       }
     });
     tbb::parallel_for(std::size_t{0}, n_leaves, [&](std::size_t i) {
@@ -547,11 +550,28 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       for (int k = 0; k < 8; ++k) {
         const IPoint p{(U64(c.index[0]) + (k & 1)) * s, (U64(c.index[1]) + ((k >> 1) & 1)) * s,
                        (U64(c.index[2]) + ((k >> 2) & 1)) * s};
-        keys[8 * i + std::size_t(k)] = line_key(2, p);
+        const U64 known = sign_shift ? (c.corner_signs >> (2 * k)) & 3 : 0;
+        keys[8 * i + std::size_t(k)] = (line_key(2, p) << sign_shift) | known;
       }
     });
     sort_keys(keys);
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    // Unique points; a sign proved for a point by any leaf (they cannot disagree: both proofs
+    // hold) is kept for it. known[i]: bit 0 f < 0 proved, bit 1 f > 0 proved.
+    std::vector<std::uint8_t> known;
+    {
+      std::size_t np = 0;
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        const U64 k = keys[i] >> sign_shift;
+        const std::uint8_t bits = std::uint8_t(keys[i] & 3);
+        if (np > 0 && keys[np - 1] == k) {
+          known[np - 1] |= sign_shift ? bits : 0;
+        } else {
+          keys[np++] = k;
+          known.push_back(sign_shift ? bits : 0);
+        }
+      }
+      keys.resize(np);
+    }
     const std::size_t np = keys.size();
     st.sample_points = np;
 
@@ -562,28 +582,36 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       std::vector<U64>& z = g.lines[2];
       z.resize(np);
       std::atomic<std::uint64_t> uncertain{0};
+      std::atomic<std::uint64_t> evaluated{0};
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const auto& r) {
         IntervalEval ie(tape);
-        std::vector<Vec3> pos(r.size());
+        std::vector<std::size_t> todo;  // points whose sign the enclosure did not prove
+        std::vector<Vec3> pos;
         {
           NearestScope nearest;
-          for (std::size_t i = r.begin(); i < r.end(); ++i)
-            pos[i - r.begin()] = g.position(decode_key(2, keys[i]));
+          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            z[i] = (keys[i] << 1) | U64(known[i] & 1);
+            if (known[i]) continue;
+            todo.push_back(i);
+            pos.push_back(g.position(decode_key(2, keys[i])));
+          }
         }
         std::uint64_t unc = 0;
         RoundingScope scope;
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-          const Vec3& p = pos[i - r.begin()];
+        for (std::size_t j = 0; j < todo.size(); ++j) {
+          const Vec3& p = pos[j];
           const Interval v = ie.eval(IBox(Interval(p.x), Interval(p.y), Interval(p.z)));
           const bool neg = !ie.partial_domain() && v.certainly_negative();
           if (ie.partial_domain() || (!v.certainly_negative() && !v.certainly_positive())) ++unc;
-          z[i] = (keys[i] << 1) | U64(neg);
+          z[todo[j]] |= U64(neg);
         }
         uncertain += unc;
+        evaluated += todo.size();
         phase.advance(r.size());
       });
       st.uncertain_points = uncertain;
-      st.evaluations += np;
+      st.evaluations += evaluated;
+      st.known_points = np - evaluated;
     }
     g.point_table.build(np, [&](std::size_t i) { return keys[i]; });
     for (int a = 0; a < 2; ++a) {
@@ -760,7 +788,9 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
 
 OctreeMesh mesh_octree(const Tape& tape, const OctreeMeshSettings& settings, const Exec& exec) {
   settings.validate();
-  const Enclosure enc = enclose(tape, settings.enclose, exec);
+  EncloseSettings es = settings.enclose;
+  es.all_corner_signs = true;  // the grid's signs, most of them proved by the enclosure already
+  const Enclosure enc = enclose(tape, es, exec);
   return extract_mesh(tape, enc, settings, exec);
 }
 

@@ -50,7 +50,8 @@ struct OctreeMeshStats {
   std::uint64_t meshed_leaves = 0;      ///< leaves that produced at least one loop
   std::uint64_t unmeshed_possible = 0;  ///< possible leaves with no sign change on their boundary
   std::uint64_t unmeshed_crossing = 0;  ///< crossing leaves whose boundary showed no sign change
-  std::uint64_t sample_points = 0;      ///< grid points whose sign was evaluated
+  std::uint64_t sample_points = 0;      ///< grid points whose sign was needed
+  std::uint64_t known_points = 0;       ///< of those, signs proved by the enclosure's leaves
   std::uint64_t uncertain_points = 0;   ///< points whose sign intervals could not decide
   std::uint64_t open_chains = 0;        ///< segment chains that did not close (must be 0)
   std::uint64_t evaluations = 0;        ///< interval evaluations (enclosure + point signs)
