@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 
 #include "common/files.h"
 #include "compare/compare.h"
@@ -26,6 +27,7 @@ struct Options {
   int runs = 3;
   int threads = 0;
   bool no_compare = false;
+  bool no_scaling = false;
   std::string json;
 };
 
@@ -118,11 +120,41 @@ void run(const Options& o) {
                      {"settings", last.details}});
     }
   }
+  // CGAL Mesh_3's thread scaling: the first surface at half the resolution, 1 thread and all.
+  nlohmann::json scaling;
+  if (!o.no_scaling && exec.resolved_threads() > 1 && !o.surfaces.empty() &&
+      std::find(methods.begin(), methods.end(), meshing::Method::kCgal) != methods.end()) {
+    const std::string path = o.scenes + "/" + o.surfaces.front() + ".toml";
+    const Scene scene = parse_scene(tools::read_file(path), path);
+    meshing::Surface s;
+    s.name = scene.name;
+    s.expression = scene.expression;
+    s.tape = scene.tape;
+    s.bounds = scene.bounds;
+    meshing::MeshParams p = o.p;
+    p.resolution = std::max(8, o.p.resolution / 2);
+    std::printf("cgal thread scaling (%s, resolution %d):", s.name.c_str(), p.resolution);
+    for (int threads : {1, exec.resolved_threads()}) {
+      Exec e = exec;
+      e.threads = threads;
+      const std::clock_t c0 = std::clock();
+      const meshing::MeshRun r = meshing::run_mesher(meshing::Method::kCgal, s, p, e);
+      const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+      std::printf(" %d thread%s %.3f s (cpu %.3f s)%s", threads, threads > 1 ? "s" : "", r.seconds,
+                  cpu, threads == 1 ? "," : "\n");
+      scaling.push_back({{"threads", threads}, {"seconds", r.seconds}, {"cpu_seconds", cpu}});
+      std::fflush(stdout);
+    }
+  }
   std::printf(
       "lost: IAA certifies surface in the pixel, the mesh shows none; wrong: IAA certifies\n"
       "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n"
       "octree phases: enclosure / grid signs / loop extraction / vertex placement.\n");
-  if (!o.json.empty()) tools::write_text_atomically(o.json, out.dump(2) + "\n");
+  if (!o.json.empty()) {
+    nlohmann::json j = {{"rows", out}};
+    if (!scaling.is_null()) j["cgal_thread_scaling"] = scaling;
+    tools::write_text_atomically(o.json, j.dump(2) + "\n");
+  }
 #endif
 }
 
@@ -142,6 +174,8 @@ void setup(CLI::App& app) {
   app.add_option("--runs", o->runs, "timed runs per mesher (median; cgal runs once)")
       ->capture_default_str();
   app.add_option("--threads", o->threads, "worker threads, 0 = all")->capture_default_str();
+  app.add_flag("--no-scaling", o->no_scaling,
+               "skip the cgal thread-scaling line (1 thread and all, half the resolution)");
   app.add_flag("--no-compare", o->no_compare,
                "time the meshers only: no render, no lost or wrong pixels (shown as 0)");
   app.add_option("--json", o->json, "also write the table as JSON");
