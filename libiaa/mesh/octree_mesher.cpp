@@ -575,8 +575,9 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     const std::size_t np = keys.size();
     st.sample_points = np;
 
-    // Certified signs: f on the degenerate box of each point must be certainly negative to count
-    // as negative; anything undecided (f = 0 up to rounding, undefined) counts as non-negative.
+    // Certified signs: f at a point must be proved negative to count as negative (by a leaf of
+    // the enclosure, else by the interval value on the point's degenerate box); anything
+    // undecided (f = 0 up to rounding, undefined) counts as non-negative.
     {
       ProgressPhase phase(exec.progress, "mesh: signs", np);
       std::vector<U64>& z = g.lines[2];

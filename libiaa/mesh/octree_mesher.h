@@ -2,8 +2,9 @@
 //
 // Every leaf of the enclosure (crossing leaves at the requested depth, possible leaves refined
 // deeper so that thin features show a sign change) is meshed by *cubical marching squares*: the
-// sign of f is certified at the corners of all leaves (interval evaluation on the degenerate box of
-// each point); each face of a leaf is cut into the faces of the finer leaf on either side, and
+// sign of f is certified at the corners of all leaves (by the enclosure's mean-value forms or
+// interval evaluations, Cell::corner_signs, else by an interval evaluation on the degenerate box
+// of the point); each face of a leaf is cut into the faces of the finer leaf on either side, and
 // every edge into the corners of all leaves that touch it; on every such polygon the crossings of
 // the zero set (proved sign changes) are paired, and within a leaf the pairs link into closed
 // loops, each triangulated by a fan around a point pulled onto the surface. Two leaves that share
