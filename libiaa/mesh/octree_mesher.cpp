@@ -74,37 +74,57 @@ inline U64 node_code(int depth, const std::array<std::uint32_t, 3>& idx) {
   return c;
 }
 
-/// LSD radix sort of 64-bit keys, 11 bits per pass; passes whose digit is the same for every key
-/// (the grid keys use 3 fields of level + 1 bits out of 21) are skipped. `tmp` is scratch.
-void radix_sort_serial(U64* a, U64* tmp, std::size_t n) {
+/// A sort key with a payload (the point's position in another array).
+struct Keyed {
+  U64 key;
+  std::uint32_t value;
+};
+inline U64 key_of(U64 k) {
+  return k;
+}
+inline U64 key_of(const Keyed& k) {
+  return k.key;
+}
+struct KeyLess {
+  template <class T>
+  bool operator()(const T& a, const T& b) const {
+    return key_of(a) < key_of(b);
+  }
+};
+
+/// LSD radix sort by 64-bit key, 11 bits per pass; passes whose digit is the same for every key
+/// (the grid keys use 3 fields of level + 1 bits out of 21) are skipped. Stable. `tmp` is scratch.
+template <class T>
+void radix_sort_serial(T* a, T* tmp, std::size_t n) {
   constexpr int kDigit = 11, kPasses = 6;
   constexpr std::size_t kBuckets = std::size_t{1} << kDigit;
   std::vector<std::size_t> count(kPasses * kBuckets, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const U64 v = a[i];
+    const U64 v = key_of(a[i]);
     for (int p = 0; p < kPasses; ++p)
       ++count[p * kBuckets + ((v >> (p * kDigit)) & (kBuckets - 1))];
   }
-  U64* src = a;
-  U64* dst = tmp;
+  T* src = a;
+  T* dst = tmp;
   for (int p = 0; p < kPasses; ++p) {
     std::size_t* c = &count[p * kBuckets];
     if (std::any_of(c, c + kBuckets, [&](std::size_t k) { return k == n; })) continue;
     std::size_t sum = 0;
     for (std::size_t b = 0; b < kBuckets; ++b) sum += std::exchange(c[b], sum);
     for (std::size_t i = 0; i < n; ++i)
-      dst[c[(src[i] >> (p * kDigit)) & (kBuckets - 1)]++] = src[i];
+      dst[c[(key_of(src[i]) >> (p * kDigit)) & (kBuckets - 1)]++] = src[i];
     std::swap(src, dst);
   }
   if (src != a) std::copy(src, src + n, a);
 }
 
-/// Sorts v ascending: four parts radix-sorted in parallel, then merged (the result is the sorted
-/// sequence, whatever the thread count). Several times faster than a comparison sort on the
-/// millions of grid keys.
-void sort_keys(std::vector<U64>& v) {
+/// Sorts v by key, ascending: four parts radix-sorted in parallel, then merged (the result is the
+/// sorted sequence, whatever the thread count; keys are distinct or carry no payload). Several
+/// times faster than a comparison sort on the millions of grid keys.
+template <class T>
+void sort_keys(std::vector<T>& v) {
   const std::size_t n = v.size();
-  std::vector<U64> tmp(n);
+  std::vector<T> tmp(n);
   if (n < (std::size_t{1} << 16)) {
     radix_sort_serial(v.data(), tmp.data(), n);
     return;
@@ -117,9 +137,10 @@ void sort_keys(std::vector<U64>& v) {
   });
   tbb::parallel_for(std::size_t{0}, std::size_t{2}, [&](std::size_t k) {
     std::merge(v.begin() + cut[2 * k], v.begin() + cut[2 * k + 1], v.begin() + cut[2 * k + 1],
-               v.begin() + cut[2 * k + 2], tmp.begin() + cut[2 * k]);
+               v.begin() + cut[2 * k + 2], tmp.begin() + cut[2 * k], KeyLess{});
   });
-  std::merge(tmp.begin(), tmp.begin() + cut[2], tmp.begin() + cut[2], tmp.end(), v.begin());
+  std::merge(tmp.begin(), tmp.begin() + cut[2], tmp.begin() + cut[2], tmp.end(), v.begin(),
+             KeyLess{});
 }
 
 /// Open-addressing map from a 63-bit key to a 32-bit value, filled in parallel (distinct keys,
@@ -616,18 +637,22 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     }
     g.point_table.build(np, [&](std::size_t i) { return keys[i]; });
     for (int a = 0; a < 2; ++a) {
-      std::vector<U64>& v = g.lines[std::size_t(a)];
-      v.resize(np);
+      // Sorted with each point's z position as payload, so that its position in this array
+      // needs no lookup.
+      std::vector<Keyed> kv(np);
       tbb::parallel_for(std::size_t{0}, np, [&](std::size_t i) {
         const U64 e = g.lines[2][i];
-        v[i] = (line_key(a, decode_key(2, e >> 1)) << 1) | (e & 1);
+        kv[i] = {(line_key(a, decode_key(2, e >> 1)) << 1) | (e & 1),
+                 static_cast<std::uint32_t>(i)};
       });
-      sort_keys(v);
+      sort_keys(kv);
+      std::vector<U64>& v = g.lines[std::size_t(a)];
+      v.resize(np);
       std::vector<std::uint32_t>& pos = g.pos_in[std::size_t(a)];
       pos.resize(np);
       tbb::parallel_for(std::size_t{0}, np, [&](std::size_t j) {
-        pos[g.point_table.find(line_key(2, decode_key(a, v[j] >> 1)))] =
-            static_cast<std::uint32_t>(j);
+        v[j] = kv[j].key;
+        pos[kv[j].value] = static_cast<std::uint32_t>(j);
       });
     }
     keys.clear();
