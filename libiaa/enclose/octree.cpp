@@ -40,10 +40,40 @@ struct Expansion {
   std::array<Interval, 3> g;
   Interval fc;
   double c[3];
+  /// Filled by prepare(cell): per axis, the term g[a] * (X[a] - c[a]) for the lower and upper
+  /// half of the cell (the children's extents: [lo, c] and [c, hi]) and for the points lo and hi
+  /// (the children's corners other than c). The children's bounds and corner values are then a
+  /// sum of three terms, the same intervals bound() would compute, without multiplying again.
+  Interval half[3][2];
+  Interval end[3][2];
 
   Interval bound(const IBox& box) const {
     Interval r = fc;
     for (int a = 0; a < 3; ++a) r += g[a] * (box[a] - Interval(c[a]));
+    return r;
+  }
+  void prepare(const IBox& cell) {
+    for (int a = 0; a < 3; ++a) {
+      const Interval ca(c[a]);
+      half[a][0] = g[a] * (Interval(cell[a].lo(), c[a]) - ca);
+      half[a][1] = g[a] * (Interval(c[a], cell[a].hi()) - ca);
+      end[a][0] = g[a] * (Interval(cell[a].lo()) - ca);
+      end[a][1] = g[a] * (Interval(cell[a].hi()) - ca);
+    }
+  }
+  /// bound() on child `k` (bit a of k: upper half along axis a). Needs prepare().
+  Interval child_bound(unsigned k) const {
+    Interval r = fc;
+    for (int a = 0; a < 3; ++a) r += half[a][(k >> a) & 1];
+    return r;
+  }
+  /// bound() at the point whose coordinate along axis a is lo, c or hi for off[a] = 0, 1, 2 (at
+  /// c the term is g * [0, 0] = [0, 0], and adding it is exact). Needs prepare().
+  Interval point_bound(const int off[3]) const {
+    Interval r = fc;
+    for (int a = 0; a < 3; ++a) {
+      if (off[a] != 1) r += end[a][off[a] >> 1];
+    }
     return r;
   }
 };
@@ -171,6 +201,7 @@ struct Shared {
   int max_depth;  ///< depth + refine_possible
   std::uint64_t max_boxes;
   bool centered_form;
+  bool all_corner_signs;
   const Progress* progress = nullptr;
   std::atomic<std::uint64_t> leaves{0};
   std::atomic<bool> over_limit{false};
@@ -191,6 +222,9 @@ class SubtreeWorker {
     cells_.clear();
     evaluations_ = 0;
     corner_evaluations_ = 0;
+    expansion_signs_ = 0;
+    own_calls_ = 0;
+    own_rejects_ = 0;
   }
 
   /// Encloses the subtree of cell (idx, d). `parent`, when given, is the mean-value expansion of
@@ -206,14 +240,14 @@ class SubtreeWorker {
       sh_.cancelled.store(true, std::memory_order_relaxed);
       return;
     }
-    const IBox box = cell_ibox(idx, d);
     Interval f = Interval::whole();
     bool partial = true;
     if (parent) {
-      f = parent->bound(box);
+      f = parent->child_bound((idx[0] & 1) | (idx[1] & 1) << 1 | (idx[2] & 1) << 2);
       partial = false;  // partial domain is inclusion-monotone: none on the parent, none here
       if (!f.contains_zero()) return;
     }
+    const IBox box = cell_ibox(idx, d);
     Expansion own_exp;
     bool exp_valid = false;
     // The natural interval value and the cell's own gradient in one evaluation, then the
@@ -225,9 +259,26 @@ class SubtreeWorker {
         partial = ie_.partial_domain();
         return;
       }
+      // Where most evaluated cells turn out empty (a parent expansion too weak to reject them,
+      // as on the twist's steep blades), the natural interval alone, at a fraction of the cost
+      // of value and gradient, is tried first and the gradient evaluated only for cells it
+      // keeps. Its value is the one the gradient evaluation computes (the same interval rules),
+      // so the cells kept and their bounds do not depend on the choice, only the time does. The
+      // choice is made from this subtree's counts alone.
+      ++own_calls_;
+      if (own_calls_ > 32 && 3 * own_rejects_ > 2 * own_calls_) {
+        const Interval v = ie_.eval(box);
+        if (!ie_.partial_domain() && !intersect(f, v).contains_zero()) {
+          f = intersect(f, v);
+          partial = false;
+          ++own_rejects_;
+          return;
+        }
+      }
       const IGrad r = ge_.eval(box);
       partial = ge_.partial_domain();
       f = intersect(f, r.v);
+      if (!partial && !f.contains_zero()) ++own_rejects_;
       if (partial || !f.contains_zero()) return;
       for (int a = 0; a < 3; ++a) {
         if (!r.g[a].is_finite()) return;
@@ -246,7 +297,7 @@ class SubtreeWorker {
     };
     if (d < sh_.depth) {
       own();
-      if (f.contains_zero()) split(idx, d, exp_valid ? &own_exp : nullptr);
+      if (f.contains_zero()) split(idx, d, box, exp_valid ? &own_exp : nullptr);
       return;
     }
     // A leaf. Crossing when its corners prove a sign change of a continuous f; with the parent's
@@ -255,7 +306,10 @@ class SubtreeWorker {
       own();
       if (!f.contains_zero()) return;  // certified empty (or f undefined on the whole cell)
     }
-    if (!partial && corners_have_both_signs(idx, d)) {
+    signs_ = 0;  // where f may be undefined (partial), no corner sign is recorded
+    n_missing_ = 0;
+    if (!partial && corners_have_both_signs(idx, d, parent)) {
+      if (sh_.all_corner_signs) all_signs(idx, d, parent);
       emit(idx, d, CellClass::kCrossing, f);
       return;
     }
@@ -264,9 +318,9 @@ class SubtreeWorker {
       if (!f.contains_zero()) return;
     }
     if (d < sh_.max_depth) {
-      split(idx, d, exp_valid ? &own_exp : nullptr);  // refine a possible leaf
+      split(idx, d, box, exp_valid ? &own_exp : nullptr);  // refine a possible leaf
     } else {
-      emit(idx, d, CellClass::kPossible, f);
+      emit(idx, d, CellClass::kPossible, f);  // all its corners were looked at
     }
   }
 
@@ -281,14 +335,16 @@ class SubtreeWorker {
   std::vector<Cell>& cells() { return cells_; }
   std::uint64_t evaluations() const { return evaluations_; }
   std::uint64_t corner_evaluations() const { return corner_evaluations_; }
+  std::uint64_t expansion_signs() const { return expansion_signs_; }
 
  private:
   void emit(const Index& idx, int d, CellClass cls, const Interval& f) {
-    cells_.push_back(Cell{idx, static_cast<std::uint8_t>(d), cls, f});
+    cells_.push_back(Cell{idx, static_cast<std::uint8_t>(d), cls, signs_, f});
     if (++pending_ == 256) flush();
   }
 
-  void split(const Index& idx, int d, const Expansion* g) {
+  void split(const Index& idx, int d, const IBox& box, Expansion* g) {
+    if (g) g->prepare(box);
     for (std::uint32_t c = 0; c < 8; ++c) {
       visit({2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)}, d + 1,
             g);
@@ -303,16 +359,24 @@ class SubtreeWorker {
     return ie_.partial_domain() || v.is_empty() ? Interval::whole() : v;
   }
 
-  /// Proved sign of f at corner (x, y, z) of the finest grid, evaluated once per subtree.
-  int corner_sign(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+  /// Proved sign of f at corner (x, y, z) of the finest grid, found once per subtree: from the
+  /// expansion `e` of a cell holding the corner when it decides, else by evaluating the point.
+  /// `off` places the corner in the expansion's cell (Expansion::point_bound).
+  int corner_sign(std::uint32_t x, std::uint32_t y, std::uint32_t z, const Expansion* e,
+                  const int off[3]) {
     bool found = false;
     std::int8_t* sign = cache_.find_or_insert(x, y, z, &found);
     if (!found) {
-      const Box3& b = sh_.bounds;
-      const int L = sh_.max_depth;
-      const Interval v =
-          point_value(grid_coord_up(b.lo.x, b.hi.x, x, L), grid_coord_up(b.lo.y, b.hi.y, y, L),
-                      grid_coord_up(b.lo.z, b.hi.z, z, L));
+      Interval v = Interval::whole();
+      if (e) v = e->point_bound(off);
+      if (!v.certainly_positive() && !v.certainly_negative()) {
+        const Box3& b = sh_.bounds;
+        const int L = sh_.max_depth;
+        v = point_value(grid_coord_up(b.lo.x, b.hi.x, x, L), grid_coord_up(b.lo.y, b.hi.y, y, L),
+                        grid_coord_up(b.lo.z, b.hi.z, z, L));
+      } else {
+        ++expansion_signs_;
+      }
       *sign = v.certainly_positive() ? 1 : (v.certainly_negative() ? -1 : 0);
     }
     return *sign;
@@ -336,31 +400,59 @@ class SubtreeWorker {
 
   /// True when two corners of the cell have proved values of opposite strict signs.
   /// The corners already in the cache are looked at first, so that a sign change among them
-  /// costs no evaluation.
-  bool corners_have_both_signs(const Index& idx, int d) {
+  /// costs no evaluation. A corner not in the cache is bounded first by the parent's expansion
+  /// `parent` (when given; the corner lies in the parent cell, where the expansion encloses f at
+  /// every point), which proves most signs with a few interval operations instead of an evaluation
+  /// of the tape; only corners it leaves undecided are evaluated.
+  bool corners_have_both_signs(const Index& idx, int d, const Expansion* parent) {
     const int shift = sh_.max_depth - d;
     bool pos = false, neg = false;
-    std::uint32_t missing[8];
-    int n_missing = 0;
+    n_missing_ = 0;
+    signs_ = 0;
     for (std::uint32_t c = 0; c < 8; ++c) {
       const std::int8_t* sign =
           cache_.find((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
                       (idx[2] + ((c >> 2) & 1)) << shift);
       if (!sign) {
-        missing[n_missing++] = c;
+        missing_[n_missing_++] = c;
         continue;
       }
+      record(c, *sign);
       pos |= *sign > 0;
       neg |= *sign < 0;
     }
-    for (int k = 0; k < n_missing && !(pos && neg); ++k) {
-      const std::uint32_t c = missing[k];
-      const int sign = corner_sign((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
-                                   (idx[2] + ((c >> 2) & 1)) << shift);
+    int k = 0;
+    for (; k < n_missing_ && !(pos && neg); ++k) {
+      const int sign = missing_sign(idx, d, parent, missing_[k]);
       pos |= sign > 0;
       neg |= sign < 0;
     }
+    // The corners not looked at stay in missing_ for all_signs().
+    std::copy(missing_ + k, missing_ + n_missing_, missing_);
+    n_missing_ -= k;
     return pos && neg;
+  }
+
+  /// After corners_have_both_signs: proves the signs of the corners it did not look at.
+  void all_signs(const Index& idx, int d, const Expansion* parent) {
+    for (int k = 0; k < n_missing_; ++k) missing_sign(idx, d, parent, missing_[k]);
+    n_missing_ = 0;
+  }
+
+  /// The sign of corner c of cell (idx, d), not in the cache: found and recorded.
+  int missing_sign(const Index& idx, int d, const Expansion* parent, std::uint32_t c) {
+    const int shift = sh_.max_depth - d;
+    const int off[3] = {int((idx[0] & 1) + (c & 1)), int((idx[1] & 1) + ((c >> 1) & 1)),
+                        int((idx[2] & 1) + ((c >> 2) & 1))};
+    const int sign = corner_sign((idx[0] + (c & 1)) << shift, (idx[1] + ((c >> 1) & 1)) << shift,
+                                 (idx[2] + ((c >> 2) & 1)) << shift, parent, off);
+    record(c, sign);
+    return sign;
+  }
+
+  void record(std::uint32_t c, int sign) {
+    if (sign < 0) signs_ |= std::uint16_t(1u << (2 * c));
+    if (sign > 0) signs_ |= std::uint16_t(2u << (2 * c));
   }
 
   Shared& sh_;
@@ -370,8 +462,16 @@ class SubtreeWorker {
   std::vector<Cell> cells_;
   std::uint64_t evaluations_ = 0;
   std::uint64_t corner_evaluations_ = 0;
+  std::uint64_t expansion_signs_ = 0;
+  // This subtree's cell evaluations and how many of them excluded 0 (see own() in visit).
+  std::uint64_t own_calls_ = 0, own_rejects_ = 0;
   std::uint64_t pending_ = 0;
   std::uint64_t visits_ = 0;
+  // The leaf being classified: its proved corner signs (Cell::corner_signs) and the corners not
+  // looked at yet.
+  std::uint16_t signs_ = 0;
+  std::uint32_t missing_[8];
+  int n_missing_ = 0;
 };
 
 /// Morton order of two indices of one depth, bits interleaved z y x from the most significant
@@ -462,6 +562,7 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   sh.max_depth = settings.depth + settings.refine_possible;
   sh.max_boxes = settings.max_boxes;
   sh.centered_form = settings.centered_form;
+  sh.all_corner_signs = settings.all_corner_signs;
   sh.progress = exec.progress;
 
   Enclosure out;
@@ -499,7 +600,7 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   // Phase 2: one depth-first task per frontier cell.
   const std::size_t n = frontier.size();
   std::vector<std::vector<Cell>> parts(n);
-  std::vector<std::uint64_t> evals(n, 0), corner_evals(n, 0);
+  std::vector<std::uint64_t> evals(n, 0), corner_evals(n, 0), exp_signs(n, 0);
   {
     ProgressPhase phase(exec.progress, "enclose", n);
     exec.run([&] {
@@ -518,6 +619,7 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
           parts[i] = std::move(w.cells());
           evals[i] = w.evaluations();
           corner_evals[i] = w.corner_evaluations();
+          exp_signs[i] = w.expansion_signs();
           phase.advance(1);
         }
       });
@@ -540,6 +642,7 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   for (std::size_t i = 0; i < n; ++i) {
     out.evaluations += evals[i];
     out.corner_evaluations += corner_evals[i];
+    out.expansion_signs += exp_signs[i];
     for (const Cell& c : parts[i]) {
       ++per[i * depths + c.depth];
       ++out.counts_by_depth[c.depth][c.cls == CellClass::kCrossing ? 0 : 1];

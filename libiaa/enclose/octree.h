@@ -34,6 +34,11 @@ struct Cell {
   std::array<std::uint32_t, 3> index;
   std::uint8_t depth;
   CellClass cls;
+  /// Proved signs of f at the cell's corners (corner k = x bit 0, y bit 1, z bit 2 of k): bit 2k
+  /// set when f < 0 there is proved, bit 2k+1 when f > 0 is; neither when it is not known (not
+  /// looked at, or not provable). All 8 are looked at with EncloseSettings::all_corner_signs.
+  /// Fills the padding before `f`: a cell stays 32 bytes.
+  std::uint16_t corner_signs = 0;
   /// An enclosure of f over the cell: the natural interval value and/or a mean-value form (the
   /// parent's expansion, for crossing leaves; their intersection with the cell's own otherwise).
   Interval f;
@@ -52,6 +57,10 @@ struct EncloseSettings {
   /// intersection with the natural interval (both are sound). Costs a gradient evaluation per
   /// kept cell and removes most cells that the natural interval cannot exclude near the surface.
   bool centered_form = true;
+  /// Prove the signs of all 8 corners of every leaf (Cell::corner_signs), not only until a sign
+  /// change is seen. For the mesher, which needs them all; most come from the parent's expansion
+  /// at the cost of a few interval additions.
+  bool all_corner_signs = false;
 
   static constexpr int kMaxDepth = 21;
   static constexpr int kMaxRefine = 8;
@@ -69,6 +78,8 @@ struct Enclosure {
   /// test and cell centres for the mean-value form. Each point is evaluated at most once per
   /// parallel subtree.
   std::uint64_t corner_evaluations = 0;
+  /// Corner signs proved by the parent cell's mean-value expansion alone (no evaluation of f).
+  std::uint64_t expansion_signs = 0;
   /// Number of leaves per depth (index) and class ([0] crossing, [1] possible); its size is
   /// depth + refine_possible + 1 of the settings that produced it.
   std::vector<std::array<std::uint64_t, 2>> counts_by_depth;

@@ -7,12 +7,14 @@
 #include "mesh/octree_mesher.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <string>
+#include <utility>
 
 #include "core/error.h"
 #include "expr/eval_interval.h"
@@ -72,12 +74,134 @@ inline U64 node_code(int depth, const std::array<std::uint32_t, 3>& idx) {
   return c;
 }
 
+/// A sort key with a payload (the point's position in another array).
+struct Keyed {
+  U64 key;
+  std::uint32_t value;
+};
+inline U64 key_of(U64 k) {
+  return k;
+}
+inline U64 key_of(const Keyed& k) {
+  return k.key;
+}
+struct KeyLess {
+  template <class T>
+  bool operator()(const T& a, const T& b) const {
+    return key_of(a) < key_of(b);
+  }
+};
+
+/// LSD radix sort by 64-bit key, 11 bits per pass; passes whose digit is the same for every key
+/// (the grid keys use 3 fields of level + 1 bits out of 21) are skipped. Stable. `tmp` is scratch.
+template <class T>
+void radix_sort_serial(T* a, T* tmp, std::size_t n) {
+  constexpr int kDigit = 11, kPasses = 6;
+  constexpr std::size_t kBuckets = std::size_t{1} << kDigit;
+  std::vector<std::size_t> count(kPasses * kBuckets, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const U64 v = key_of(a[i]);
+    for (int p = 0; p < kPasses; ++p)
+      ++count[p * kBuckets + ((v >> (p * kDigit)) & (kBuckets - 1))];
+  }
+  T* src = a;
+  T* dst = tmp;
+  for (int p = 0; p < kPasses; ++p) {
+    std::size_t* c = &count[p * kBuckets];
+    if (std::any_of(c, c + kBuckets, [&](std::size_t k) { return k == n; })) continue;
+    std::size_t sum = 0;
+    for (std::size_t b = 0; b < kBuckets; ++b) sum += std::exchange(c[b], sum);
+    for (std::size_t i = 0; i < n; ++i)
+      dst[c[(key_of(src[i]) >> (p * kDigit)) & (kBuckets - 1)]++] = src[i];
+    std::swap(src, dst);
+  }
+  if (src != a) std::copy(src, src + n, a);
+}
+
+/// Sorts v by key, ascending: four parts radix-sorted in parallel, then merged (the result is the
+/// sorted sequence, whatever the thread count; keys are distinct or carry no payload). Several
+/// times faster than a comparison sort on the millions of grid keys.
+template <class T>
+void sort_keys(std::vector<T>& v) {
+  const std::size_t n = v.size();
+  std::vector<T> tmp(n);
+  if (n < (std::size_t{1} << 16)) {
+    radix_sort_serial(v.data(), tmp.data(), n);
+    return;
+  }
+  constexpr std::size_t kParts = 4;
+  std::size_t cut[kParts + 1];
+  for (std::size_t k = 0; k <= kParts; ++k) cut[k] = n * k / kParts;
+  tbb::parallel_for(std::size_t{0}, kParts, [&](std::size_t k) {
+    radix_sort_serial(v.data() + cut[k], tmp.data() + cut[k], cut[k + 1] - cut[k]);
+  });
+  tbb::parallel_for(std::size_t{0}, std::size_t{2}, [&](std::size_t k) {
+    std::merge(v.begin() + cut[2 * k], v.begin() + cut[2 * k + 1], v.begin() + cut[2 * k + 1],
+               v.begin() + cut[2 * k + 2], tmp.begin() + cut[2 * k], KeyLess{});
+  });
+  std::merge(tmp.begin(), tmp.begin() + cut[2], tmp.begin() + cut[2], tmp.end(), v.begin(),
+             KeyLess{});
+}
+
+/// Open-addressing map from a 63-bit key to a 32-bit value, filled in parallel (distinct keys,
+/// compare-and-swap on the key), then read-only. Lookups are what the extraction does per leaf
+/// corner: one probe sequence instead of a binary search over millions of points.
+class KeyTable {
+ public:
+  void build(std::size_t n, const std::function<U64(std::size_t)>& key) {
+    std::size_t size = 16;
+    while (size < 2 * n) size *= 2;
+    mask_ = size - 1;
+    keys_ = std::vector<std::atomic<U64>>(size);
+    values_.assign(size, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, size, 1 << 14), [&](const auto& r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i)
+        keys_[i].store(kEmpty, std::memory_order_relaxed);
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& r) {
+      for (std::size_t j = r.begin(); j < r.end(); ++j) {
+        const U64 k = key(j);
+        for (std::size_t i = hash(k);; i = (i + 1) & mask_) {
+          U64 expected = kEmpty;
+          if (keys_[i].compare_exchange_strong(expected, k, std::memory_order_relaxed)) {
+            values_[i] = static_cast<std::uint32_t>(j);
+            break;
+          }
+        }
+      }
+    });
+  }
+  /// The value of key k, or kMissing.
+  std::uint32_t find(U64 k) const {
+    for (std::size_t i = hash(k);; i = (i + 1) & mask_) {
+      const U64 s = keys_[i].load(std::memory_order_relaxed);
+      if (s == k) return values_[i];
+      if (s == kEmpty) return kMissing;
+    }
+  }
+  static constexpr std::uint32_t kMissing = 0xffffffffu;
+
+ private:
+  static constexpr U64 kEmpty = ~U64{0};
+  std::size_t hash(U64 k) const {
+    k *= 0x9E3779B97F4A7C15ull;
+    return static_cast<std::size_t>(k ^ (k >> 29)) & mask_;
+  }
+  std::size_t mask_ = 0;
+  std::vector<std::atomic<U64>> keys_;
+  std::vector<std::uint32_t> values_;
+};
+
 struct Grid {
   int level = 0;
   Box3 bounds;
   // Per axis: sorted entries (line_key << 1) | negative.
   std::array<std::vector<U64>, 3> lines;
   std::vector<U64> internal;  // sorted codes of nodes that have leaves below them
+  KeyTable point_table;       // line_key(2, p) -> position of p in lines[2]
+  KeyTable internal_table;    // code -> 0 for the codes of `internal`
+  // Position in lines[0] and lines[1] of the point at position i of lines[2].
+  std::array<std::vector<std::uint32_t>, 2> pos_in;
 
   Vec3 position(const IPoint& p) const {  // call inside a NearestScope
     const double n = std::ldexp(1.0, level);
@@ -92,18 +216,14 @@ struct Grid {
   }
   // Position of p in the array of axis; p must be a grid point.
   std::size_t find(int axis, const IPoint& p) const {
-    const U64 k = line_key(axis, p) << 1;
-    const auto& v = lines[static_cast<std::size_t>(axis)];
-    const auto it = std::lower_bound(v.begin(), v.end(), k);
-    IAA_CHECK(it != v.end() && (*it >> 1) == (k >> 1));
-    return static_cast<std::size_t>(it - v.begin());
+    const std::uint32_t zi = point_table.find(line_key(2, p));
+    IAA_CHECK(zi != KeyTable::kMissing);
+    return axis == 2 ? zi : pos_in[static_cast<std::size_t>(axis)][zi];
   }
   bool negative(int axis, std::size_t pos) const {
     return lines[static_cast<std::size_t>(axis)][pos] & 1;
   }
-  bool is_internal(U64 code) const {
-    return std::binary_search(internal.begin(), internal.end(), code);
-  }
+  bool is_internal(U64 code) const { return internal_table.find(code) != KeyTable::kMissing; }
 };
 
 // A crossing seen while walking a polygon: the grid edge it lies on, and whether the walk enters
@@ -143,7 +263,20 @@ class Extractor {
     const IPoint o{U64(c.index[0]) * s, U64(c.index[1]) * s, U64(c.index[2]) * s};
     origin_ = o;
     size_ = s;
-    cached_.fill(kNone);
+    // The positions of the 8 corners in the three arrays, looked up all at once: independent
+    // table reads whose cache misses overlap, where looking them up as the walk needs them would
+    // wait for each in turn.
+    std::uint32_t zi[8];
+    for (int k = 0; k < 8; ++k) {
+      const IPoint p{o[0] + ((k & 1) ? s : 0), o[1] + ((k & 2) ? s : 0), o[2] + ((k & 4) ? s : 0)};
+      zi[k] = g_.point_table.find(line_key(2, p));
+      IAA_CHECK(zi[k] != KeyTable::kMissing);
+    }
+    for (int k = 0; k < 8; ++k) {
+      cached_[std::size_t(3 * k)] = g_.pos_in[0][zi[k]];
+      cached_[std::size_t(3 * k + 1)] = g_.pos_in[1][zi[k]];
+      cached_[std::size_t(3 * k + 2)] = zi[k];
+    }
     segs_.clear();
     for (int a = 0; a < 3; ++a) {
       for (int side = 0; side < 2; ++side) {
@@ -189,7 +322,7 @@ class Extractor {
     }
   }
 
-  // Position of p in the array of axis t; the leaf's own corners are looked up once per axis.
+  // Position of p in the array of axis t; the leaf's own corners are looked up once per leaf.
   std::size_t find(int t, const IPoint& p) {
     int k = 0;
     for (int a = 0; a < 3; ++a) {
@@ -199,23 +332,7 @@ class Extractor {
         return g_.find(t, p);
       }
     }
-    std::size_t& c = cached_[std::size_t(3 * k + t)];
-    if (c != kNone) return c;
-    // The other end of the leaf's edge along t is usually the next point on the line (or a few
-    // hanging points away): scan from it instead of searching the whole array.
-    const std::size_t other = cached_[std::size_t(3 * (k ^ (1 << t)) + t)];
-    if (other != kNone) {
-      const U64 key = line_key(t, p);
-      const auto& line = g_.lines[std::size_t(t)];
-      const bool up = (k >> t) & 1;
-      std::size_t j = other;
-      for (int step = 0; step < 64; ++step) {
-        if (up ? j + 1 >= line.size() : j == 0) break;
-        j = up ? j + 1 : j - 1;
-        if ((line[j] >> 1) == key) return c = j;
-      }
-    }
-    return c = g_.find(t, p);
+    return cached_[std::size_t(3 * k + t)];
   }
 
   // Walks one side of a polygon from corner A to corner B (they differ along axis t).
@@ -334,6 +451,11 @@ class Extractor {
   std::vector<U64> loop_;
 };
 
+/// Regula falsi stops once an iterate moves less than this fraction of the edge: the mesh file
+/// holds float coordinates, whose rounding moves a vertex by more (2^-24 of a coordinate is at
+/// least 1e-5 of an edge at the default resolutions), so further steps would not change it.
+constexpr double kEdgeTolerance = 1e-7;
+
 // Places a crossing on its grid edge: regula falsi (Illinois) keeping the bracket.
 Vec3 place_on_edge(PointEval& pe, Vec3 p0, Vec3 p1, int steps) {
   double f0 = pe.eval(p0), f1 = pe.eval(p1);
@@ -345,6 +467,7 @@ Vec3 place_on_edge(PointEval& pe, Vec3 p0, Vec3 p1, int steps) {
   double t0 = 0, t1 = 1;
   int last = 0;
   double best_t = f0 / (f0 - f1), best_f = INFINITY;
+  double prev_t = best_t;
   for (int i = 0; i < steps; ++i) {
     double t = t0 + (t1 - t0) * f0 / (f0 - f1);
     if (!(t > t0 && t < t1)) t = 0.5 * (t0 + t1);
@@ -352,6 +475,8 @@ Vec3 place_on_edge(PointEval& pe, Vec3 p0, Vec3 p1, int steps) {
     if (!std::isfinite(f)) break;
     if (std::fabs(f) < best_f) best_f = std::fabs(f), best_t = t;
     if (f == 0) break;
+    if (i > 0 && std::fabs(t - prev_t) < kEdgeTolerance) break;
+    prev_t = t;
     if ((f < 0) == (f0 < 0)) {
       t0 = t, f0 = f;
       if (last == -1) f1 *= 0.5;
@@ -405,13 +530,17 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       U64 code = node_code(c.depth, c.index) >> 3;
       for (int d = c.depth - 1; d >= 0; --d, code >>= 3) in.push_back(code);
     }
-    tbb::parallel_sort(in.begin(), in.end());
+    sort_keys(in);
     in.erase(std::unique(in.begin(), in.end()), in.end());
+    g.internal_table.build(in.size(), [&](std::size_t j) { return in[j]; });
 
     // Grid points: the corners of every leaf, and of every child of an internal node at least as
     // deep as the shallowest leaf (empty children included: a leaf's face is cut into the faces
     // of the children of the same-depth node across it), sorted and unique (z-lines order = axis
     // 2 keys). Codes grow with depth, so those internal nodes are a suffix of `in`.
+    // Corner keys carry the corner's proved sign in 2 low bits where the key leaves room (a key
+    // has 21 bits per coordinate; at level <= 19 its top 2 bits are 0).
+    const int sign_shift = level <= 19 ? 2 : 0;
     int min_depth = level;
     for (const Cell& c : enc.cells) min_depth = std::min(min_depth, int(c.depth));
     const std::size_t first = static_cast<std::size_t>(
@@ -433,7 +562,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       for (int k = 0; k < 27; ++k) {
         const IPoint p{(2 * idx[0] + U64(k % 3)) * h, (2 * idx[1] + U64((k / 3) % 3)) * h,
                        (2 * idx[2] + U64(k / 9)) * h};
-        keys[8 * n_leaves + 27 * i + std::size_t(k)] = line_key(2, p);
+        keys[8 * n_leaves + 27 * i + std::size_t(k)] = line_key(2, p) << sign_shift;
       }
     });
     tbb::parallel_for(std::size_t{0}, n_leaves, [&](std::size_t i) {
@@ -442,52 +571,89 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       for (int k = 0; k < 8; ++k) {
         const IPoint p{(U64(c.index[0]) + (k & 1)) * s, (U64(c.index[1]) + ((k >> 1) & 1)) * s,
                        (U64(c.index[2]) + ((k >> 2) & 1)) * s};
-        keys[8 * i + std::size_t(k)] = line_key(2, p);
+        const U64 known = sign_shift ? (c.corner_signs >> (2 * k)) & 3 : 0;
+        keys[8 * i + std::size_t(k)] = (line_key(2, p) << sign_shift) | known;
       }
     });
-    tbb::parallel_sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    sort_keys(keys);
+    // Unique points; a sign proved for a point by any leaf (they cannot disagree: both proofs
+    // hold) is kept for it. known[i]: bit 0 f < 0 proved, bit 1 f > 0 proved.
+    std::vector<std::uint8_t> known;
+    {
+      std::size_t np = 0;
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        const U64 k = keys[i] >> sign_shift;
+        const std::uint8_t bits = std::uint8_t(keys[i] & 3);
+        if (np > 0 && keys[np - 1] == k) {
+          known[np - 1] |= sign_shift ? bits : 0;
+        } else {
+          keys[np++] = k;
+          known.push_back(sign_shift ? bits : 0);
+        }
+      }
+      keys.resize(np);
+    }
     const std::size_t np = keys.size();
     st.sample_points = np;
 
-    // Certified signs: f on the degenerate box of each point must be certainly negative to count
-    // as negative; anything undecided (f = 0 up to rounding, undefined) counts as non-negative.
+    // Certified signs: f at a point must be proved negative to count as negative (by a leaf of
+    // the enclosure, else by the interval value on the point's degenerate box); anything
+    // undecided (f = 0 up to rounding, undefined) counts as non-negative.
     {
       ProgressPhase phase(exec.progress, "mesh: signs", np);
       std::vector<U64>& z = g.lines[2];
       z.resize(np);
       std::atomic<std::uint64_t> uncertain{0};
+      std::atomic<std::uint64_t> evaluated{0};
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const auto& r) {
         IntervalEval ie(tape);
-        std::vector<Vec3> pos(r.size());
+        std::vector<std::size_t> todo;  // points whose sign the enclosure did not prove
+        std::vector<Vec3> pos;
         {
           NearestScope nearest;
-          for (std::size_t i = r.begin(); i < r.end(); ++i)
-            pos[i - r.begin()] = g.position(decode_key(2, keys[i]));
+          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            z[i] = (keys[i] << 1) | U64(known[i] & 1);
+            if (known[i]) continue;
+            todo.push_back(i);
+            pos.push_back(g.position(decode_key(2, keys[i])));
+          }
         }
         std::uint64_t unc = 0;
         RoundingScope scope;
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-          const Vec3& p = pos[i - r.begin()];
+        for (std::size_t j = 0; j < todo.size(); ++j) {
+          const Vec3& p = pos[j];
           const Interval v = ie.eval(IBox(Interval(p.x), Interval(p.y), Interval(p.z)));
           const bool neg = !ie.partial_domain() && v.certainly_negative();
           if (ie.partial_domain() || (!v.certainly_negative() && !v.certainly_positive())) ++unc;
-          z[i] = (keys[i] << 1) | U64(neg);
+          z[todo[j]] |= U64(neg);
         }
         uncertain += unc;
+        evaluated += todo.size();
         phase.advance(r.size());
       });
       st.uncertain_points = uncertain;
-      st.evaluations += np;
+      st.evaluations += evaluated;
+      st.known_points = np - evaluated;
     }
+    g.point_table.build(np, [&](std::size_t i) { return keys[i]; });
     for (int a = 0; a < 2; ++a) {
-      std::vector<U64>& v = g.lines[std::size_t(a)];
-      v.resize(np);
+      // Sorted with each point's z position as payload, so that its position in this array
+      // needs no lookup.
+      std::vector<Keyed> kv(np);
       tbb::parallel_for(std::size_t{0}, np, [&](std::size_t i) {
         const U64 e = g.lines[2][i];
-        v[i] = (line_key(a, decode_key(2, e >> 1)) << 1) | (e & 1);
+        kv[i] = {(line_key(a, decode_key(2, e >> 1)) << 1) | (e & 1),
+                 static_cast<std::uint32_t>(i)};
       });
-      tbb::parallel_sort(v.begin(), v.end());
+      sort_keys(kv);
+      std::vector<U64>& v = g.lines[std::size_t(a)];
+      v.resize(np);
+      std::vector<std::uint32_t>& pos = g.pos_in[std::size_t(a)];
+      pos.resize(np);
+      tbb::parallel_for(std::size_t{0}, np, [&](std::size_t j) {
+        v[j] = kv[j].key;
+        pos[kv[j].value] = static_cast<std::uint32_t>(j);
+      });
     }
     keys.clear();
     keys.shrink_to_fit();
@@ -513,16 +679,33 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
 
   st.seconds_extract = since(t0);
   t0 = Clock::now();
-  // Vertices: every crossing edge used, in sorted order, then the loop centres in block order.
+  // Vertices: every crossing edge used, in sorted order (axis, then position: marked in a byte
+  // per grid edge, then collected in order), then the loop centres in block order.
+  std::array<std::vector<std::uint8_t>, 3> used_edge;
+  for (int a = 0; a < 3; ++a) used_edge[std::size_t(a)].assign(g.lines[std::size_t(a)].size(), 0);
+  exec.run([&] {
+    tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
+      for (const auto& t : blocks[b].tris) {
+        for (U64 r : t) {
+          if (!(r & kCentreFlag)) {
+            std::atomic_ref<std::uint8_t>(used_edge[std::size_t(r >> 40)][r & ((U64{1} << 40) - 1)])
+                .store(1, std::memory_order_relaxed);
+          }
+        }
+      }
+    });
+  });
   std::vector<U64> edges;
+  for (int a = 0; a < 3; ++a) {
+    const auto& u = used_edge[std::size_t(a)];
+    for (std::size_t j = 0; j < u.size(); ++j) {
+      if (u[j]) edges.push_back(edge_id(a, j));
+    }
+  }
+  used_edge = {};
   std::vector<std::size_t> centre_base(n_blocks + 1, 0);
   for (std::size_t b = 0; b < n_blocks; ++b) {
     const Block& bl = blocks[b];
-    for (const auto& t : bl.tris) {
-      for (U64 r : t) {
-        if (!(r & kCentreFlag)) edges.push_back(r);
-      }
-    }
     centre_base[b + 1] = centre_base[b] + bl.centres.size();
     st.open_chains += bl.open_chains;
     for (std::uint32_t li : bl.unmeshed) {
@@ -536,8 +719,6 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     }
   }
   st.meshed_leaves = n_leaves - st.unmeshed_possible - st.unmeshed_crossing;
-  exec.run([&] { tbb::parallel_sort(edges.begin(), edges.end()); });
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   const std::size_t n_edge_vertices = edges.size();
   const std::size_t n_vertices = n_edge_vertices + centre_base[n_blocks];
   TriangleSoup& soup = result.soup;
@@ -633,7 +814,9 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
 
 OctreeMesh mesh_octree(const Tape& tape, const OctreeMeshSettings& settings, const Exec& exec) {
   settings.validate();
-  const Enclosure enc = enclose(tape, settings.enclose, exec);
+  EncloseSettings es = settings.enclose;
+  es.all_corner_signs = true;  // the grid's signs, most of them proved by the enclosure already
+  const Enclosure enc = enclose(tape, es, exec);
   return extract_mesh(tape, enc, settings, exec);
 }
 

@@ -2,8 +2,9 @@
 //
 // Every leaf of the enclosure (crossing leaves at the requested depth, possible leaves refined
 // deeper so that thin features show a sign change) is meshed by *cubical marching squares*: the
-// sign of f is certified at the corners of all leaves (interval evaluation on the degenerate box of
-// each point); each face of a leaf is cut into the faces of the finer leaf on either side, and
+// sign of f is certified at the corners of all leaves (by the enclosure's mean-value forms or
+// interval evaluations, Cell::corner_signs, else by an interval evaluation on the degenerate box
+// of the point); each face of a leaf is cut into the faces of the finer leaf on either side, and
 // every edge into the corners of all leaves that touch it; on every such polygon the crossings of
 // the zero set (proved sign changes) are paired, and within a leaf the pairs link into closed
 // loops, each triangulated by a fan around a point pulled onto the surface. Two leaves that share
@@ -50,7 +51,8 @@ struct OctreeMeshStats {
   std::uint64_t meshed_leaves = 0;      ///< leaves that produced at least one loop
   std::uint64_t unmeshed_possible = 0;  ///< possible leaves with no sign change on their boundary
   std::uint64_t unmeshed_crossing = 0;  ///< crossing leaves whose boundary showed no sign change
-  std::uint64_t sample_points = 0;      ///< grid points whose sign was evaluated
+  std::uint64_t sample_points = 0;      ///< grid points whose sign was needed
+  std::uint64_t known_points = 0;       ///< of those, signs proved by the enclosure's leaves
   std::uint64_t uncertain_points = 0;   ///< points whose sign intervals could not decide
   std::uint64_t open_chains = 0;        ///< segment chains that did not close (must be 0)
   std::uint64_t evaluations = 0;        ///< interval evaluations (enclosure + point signs)

@@ -85,7 +85,7 @@ class LeafSet {
         for (std::uint32_t j = lo[1]; j <= hi[1]; ++j) {
           for (std::uint32_t k = lo[2]; k <= hi[2]; ++k) {
             if (!has(d, {i, j, k})) continue;
-            Cell c{{i, j, k}, static_cast<std::uint8_t>(d), CellClass::kPossible, Interval()};
+            Cell c{{i, j, k}, static_cast<std::uint8_t>(d), CellClass::kPossible, 0, Interval()};
             const Box3 b = enc_.box(c);
             bool meet = true;
             for (int a = 0; a < 3; ++a) meet = meet && b.lo[a] <= p.hi[a] && p.lo[a] <= b.hi[a];

@@ -140,6 +140,54 @@ TEST(Enclose, SphereLeavesHugTheSphereAndCrossingsAreProved) {
   EXPECT_GT(e.count(CellClass::kCrossing), 9 * e.count(CellClass::kPossible));
 }
 
+// Corner signs recorded in the leaves are proofs: a sign recorded as negative (positive) is never
+// contradicted by the interval evaluation of the corner point. With all_corner_signs every corner
+// sign that the point evaluation proves is recorded on crossing leaves, and the leaves, their
+// order and classes are the same as without it.
+TEST(Enclose, RecordedCornerSignsAreProvedAndComplete) {
+  for (const auto& s : test_surfaces()) {
+    const Tape tape = Tape::parse(s.expr);
+    EncloseSettings es;
+    es.bounds = s.bounds;
+    es.depth = 5;
+    es.refine_possible = 2;
+    const Enclosure plain = enclose(tape, es);
+    es.all_corner_signs = true;
+    const Enclosure all = enclose(tape, es);
+    ASSERT_EQ(plain.cells.size(), all.cells.size()) << s.name;
+    IntervalEval ie(tape);
+    RoundingScope scope;
+    std::uint64_t recorded = 0;
+    for (std::size_t i = 0; i < all.cells.size(); ++i) {
+      const Cell& c = all.cells[i];
+      ASSERT_EQ(c.index, plain.cells[i].index) << s.name;
+      ASSERT_EQ(c.cls, plain.cells[i].cls) << s.name;
+      // What the plain run recorded, the full run records too.
+      EXPECT_EQ(plain.cells[i].corner_signs & ~c.corner_signs, 0) << s.name << " cell " << i;
+      const Box3 b = all.box(c);
+      for (int k = 0; k < 8; ++k) {
+        const Vec3 p{(k & 1) ? b.hi.x : b.lo.x, (k & 2) ? b.hi.y : b.lo.y,
+                     (k & 4) ? b.hi.z : b.lo.z};
+        const int bits = (c.corner_signs >> (2 * k)) & 3;
+        ASSERT_NE(bits, 3) << s.name << ": both signs recorded";
+        const int proved = test::proved_sign(ie, p);
+        if (bits == 1) {
+          EXPECT_NE(proved, 1) << s.name << " cell " << i << " corner " << k;
+        }
+        if (bits == 2) {
+          EXPECT_NE(proved, -1) << s.name << " cell " << i << " corner " << k;
+        }
+        // A leaf where f is defined on the whole cell records every sign the point proves.
+        if (bits == 0 && c.cls == CellClass::kCrossing) {
+          EXPECT_EQ(proved, 0) << s.name << " cell " << i << " corner " << k;
+        }
+        recorded += bits != 0;
+      }
+    }
+    EXPECT_GT(recorded, 0u) << s.name;
+  }
+}
+
 TEST(Enclose, CanonicalOrderAndNoDuplicates) {
   const auto& s = test_surfaces()[0];  // teardrop, with refinement: several depths
   const Enclosure e = run(s.expr, s.bounds, 5, 3);

@@ -23,7 +23,7 @@ inline Enclosure local_enclose(const Tape& tape, const Box3& bounds, int depth, 
   const int deepest = std::max(depth + refine, max_depth);
   std::function<void(int, std::array<std::uint32_t, 3>)> visit =
       [&](int d, std::array<std::uint32_t, 3> idx) {
-        Cell c{idx, static_cast<std::uint8_t>(d), CellClass::kPossible, {}};
+        Cell c{idx, static_cast<std::uint8_t>(d), CellClass::kPossible, 0, {}};
         Box3 b;
         {
           const int saved = std::fegetround();

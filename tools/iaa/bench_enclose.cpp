@@ -167,6 +167,7 @@ void run(const BenchOptions& o) {
                             {"possible", enc.count(CellClass::kPossible)},
                             {"evaluations", enc.evaluations},
                             {"corner_evaluations", enc.corner_evaluations},
+                            {"expansion_signs", enc.expansion_signs},
                             {"enclose_s", median(t_enc)},
                             {"convert_s", median(t_conv)},
                             {"write_s", median(t_write)},

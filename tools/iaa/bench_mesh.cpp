@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <ctime>
 
 #include "common/files.h"
 #include "compare/compare.h"
@@ -25,6 +26,8 @@ struct Options {
   int image = 500;
   int runs = 3;
   int threads = 0;
+  bool no_compare = false;
+  bool no_scaling = false;
   std::string json;
 };
 
@@ -60,27 +63,45 @@ void run(const Options& o) {
     s.bounds = scene.bounds;
     RenderSettings rs = scene.settings;
     rs.method = RenderMethod::kIaa;
-    const Film film = render(scene, rs, exec);
+    const Film film = o.no_compare ? Film{} : render(scene, rs, exec);
     for (meshing::Method m : methods) {
       // Median time over runs (CGAL, the slowest, once); the mesh of the last run is compared.
       const int runs = m == meshing::Method::kCgal ? 1 : o.runs;
       std::vector<double> times;
+      static const char* kPhases[] = {"seconds_enclose", "seconds_signs", "seconds_extract",
+                                      "seconds_vertices"};
+      std::vector<std::vector<double> > phases(4);
       meshing::MeshRun last;
       for (int r = 0; r < runs; ++r) {
         last = meshing::run_mesher(m, s, o.p, exec);
         times.push_back(last.seconds);
+        for (int ph = 0; ph < 4; ++ph) {
+          if (last.details.contains(kPhases[ph]))
+            phases[ph].push_back(last.details[kPhases[ph]].get<double>());
+        }
       }
-      std::sort(times.begin(), times.end());
-      const double t = times[times.size() / 2];
+      const auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+      };
+      const double t = median(times);
       round_to_file_precision(last.soup);
       CompareCounts k;
-      if (!last.soup.empty())
-        k = compare_with_film(film, view_mesh(last.soup, scene, 1, exec).any).counts;
-      else
-        k.lost = film.stats.covered;
+      if (!o.no_compare) {
+        if (!last.soup.empty())
+          k = compare_with_film(film, view_mesh(last.soup, scene, 1, exec).any).counts;
+        else
+          k.lost = film.stats.covered;
+      }
       std::string notes;
       if (last.details.contains("unmeshed_possible_leaves")) {
         notes = last.details["unmeshed_possible_leaves"].dump() + " possible leaves unmeshed";
+      }
+      if (!phases[0].empty()) {  // the octree's phases, medians over the runs
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "; phases %.3f/%.3f/%.3f/%.3f s", median(phases[0]),
+                      median(phases[1]), median(phases[2]), median(phases[3]));
+        notes += buf;
       }
       std::printf("%-11s %-7s %9.3f %10zu %8llu %8llu %10llu  %s\n", name.c_str(),
                   meshing::method_label(m), t, last.soup.triangles.size(),
@@ -99,10 +120,41 @@ void run(const Options& o) {
                      {"settings", last.details}});
     }
   }
+  // CGAL Mesh_3's thread scaling: the first surface at half the resolution, 1 thread and all.
+  nlohmann::json scaling;
+  if (!o.no_scaling && exec.resolved_threads() > 1 && !o.surfaces.empty() &&
+      std::find(methods.begin(), methods.end(), meshing::Method::kCgal) != methods.end()) {
+    const std::string path = o.scenes + "/" + o.surfaces.front() + ".toml";
+    const Scene scene = parse_scene(tools::read_file(path), path);
+    meshing::Surface s;
+    s.name = scene.name;
+    s.expression = scene.expression;
+    s.tape = scene.tape;
+    s.bounds = scene.bounds;
+    meshing::MeshParams p = o.p;
+    p.resolution = std::max(8, o.p.resolution / 2);
+    std::printf("cgal thread scaling (%s, resolution %d):", s.name.c_str(), p.resolution);
+    for (int threads : {1, exec.resolved_threads()}) {
+      Exec e = exec;
+      e.threads = threads;
+      const std::clock_t c0 = std::clock();
+      const meshing::MeshRun r = meshing::run_mesher(meshing::Method::kCgal, s, p, e);
+      const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+      std::printf(" %d thread%s %.3f s (cpu %.3f s)%s", threads, threads > 1 ? "s" : "", r.seconds,
+                  cpu, threads == 1 ? "," : "\n");
+      scaling.push_back({{"threads", threads}, {"seconds", r.seconds}, {"cpu_seconds", cpu}});
+      std::fflush(stdout);
+    }
+  }
   std::printf(
       "lost: IAA certifies surface in the pixel, the mesh shows none; wrong: IAA certifies\n"
-      "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n");
-  if (!o.json.empty()) tools::write_text_atomically(o.json, out.dump(2) + "\n");
+      "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n"
+      "octree phases: enclosure / grid signs / loop extraction / vertex placement.\n");
+  if (!o.json.empty()) {
+    nlohmann::json j = {{"rows", out}};
+    if (!scaling.is_null()) j["cgal_thread_scaling"] = scaling;
+    tools::write_text_atomically(o.json, j.dump(2) + "\n");
+  }
 #endif
 }
 
@@ -122,6 +174,10 @@ void setup(CLI::App& app) {
   app.add_option("--runs", o->runs, "timed runs per mesher (median; cgal runs once)")
       ->capture_default_str();
   app.add_option("--threads", o->threads, "worker threads, 0 = all")->capture_default_str();
+  app.add_flag("--no-scaling", o->no_scaling,
+               "skip the cgal thread-scaling line (1 thread and all, half the resolution)");
+  app.add_flag("--no-compare", o->no_compare,
+               "time the meshers only: no render, no lost or wrong pixels (shown as 0)");
   app.add_option("--json", o->json, "also write the table as JSON");
   app.footer(
       "Examples:\n"

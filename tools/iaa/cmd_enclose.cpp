@@ -237,9 +237,12 @@ void run(const EncloseOptions& o) {
                   static_cast<unsigned long long>(c[0]), static_cast<unsigned long long>(c[1]));
     }
   }
-  std::printf("evaluations  %llu cells, %llu points (corners and centres)\n",
-              static_cast<unsigned long long>(enc.evaluations),
-              static_cast<unsigned long long>(enc.corner_evaluations));
+  std::printf(
+      "evaluations  %llu cells, %llu points (corners and centres); %llu corner signs from "
+      "expansions\n",
+      static_cast<unsigned long long>(enc.evaluations),
+      static_cast<unsigned long long>(enc.corner_evaluations),
+      static_cast<unsigned long long>(enc.expansion_signs));
   std::printf("time         %.3f s enclose", t_enclose);
   if (!o.output.empty()) std::printf(", %.3f s write", t_write);
   std::printf(" (%d threads)\n", exec.resolved_threads());
@@ -270,6 +273,7 @@ void run(const EncloseOptions& o) {
     j["by_depth"] = by;
     j["evaluations"] = enc.evaluations;
     j["corner_evaluations"] = enc.corner_evaluations;
+    j["expansion_signs"] = enc.expansion_signs;
     j["time_s"] = {{"enclose", t_enclose}, {"write", t_write}};
     if (!o.output.empty()) j["output"] = o.output;
     tools::write_text_atomically(o.report, j.dump(2) + "\n");
