@@ -1,7 +1,9 @@
 #include "expr/tape.h"
 
+#include <cmath>
 #include <cstdio>
 #include <unordered_map>
+#include <utility>
 
 #include "core/error.h"
 
@@ -55,6 +57,14 @@ Tape Tape::compile(const Dag& dag) {
     ins.a = n.a >= 0 ? slot[static_cast<std::size_t>(n.a)] : -1;
     ins.b = n.b >= 0 ? slot[static_cast<std::size_t>(n.b)] : -1;
     ins.power = n.power;
+    // A product with a finite non-zero constant becomes `scale`, the constant second.
+    const auto finite_nonzero_const = [&](std::int32_t sl) {
+      const Instr& c = t.instrs_[static_cast<std::size_t>(sl)];
+      const double v = t.constants_[static_cast<std::size_t>(sl)];
+      return c.op == Op::kConst && std::isfinite(v) && v != 0.0;
+    };
+    if (n.op == Op::kMul && finite_nonzero_const(ins.a)) std::swap(ins.a, ins.b);
+    if (n.op == Op::kMul && finite_nonzero_const(ins.b)) ins.op = Op::kScale;
     if (n.op == Op::kMin || n.op == Op::kMax) t.has_min_max_ = true;
     slot[i] = static_cast<std::int32_t>(t.instrs_.size());
     t.instrs_.push_back(ins);
@@ -95,6 +105,9 @@ std::string Tape::to_text() const {
         break;
       case Op::kMul:
         s[i] = "(" + A() + " * " + B() + ")";
+        break;
+      case Op::kScale:  // the constant first, as it is usually written
+        s[i] = "(" + B() + " * " + A() + ")";
         break;
       case Op::kDiv:
         s[i] = "(" + A() + " / " + B() + ")";
