@@ -43,5 +43,10 @@ check missing-file 1 "cannot read" -- "$iaa" eval --file "$tmp/none.txt"
 python3 -c 'print("(" * 100000 + "x" + ")" * 100000)' > "$tmp/deep.txt"
 check deep-nesting 1 "nested too deeply" -- "$iaa" eval --file "$tmp/deep.txt" --at 0,0,0
 check help 0 "Examples:" -- "$iaa" eval --help
+# bench tape says whether interval evaluation meets its target (the verdict, not the speed, is
+# checked: speed is measured, not asserted).
+check bench-tape-target 0 "target: interval within 4x" -- "$iaa" bench tape --points 100 --runs 1 \
+  --json "$tmp/tape.json"
+check bench-tape-json 0 '"within_target"' -- cat "$tmp/tape.json"
 check no-command nonzero "subcommand is required" -- "$iaa"
 exit $fail
