@@ -7,9 +7,11 @@
 // Rounding mode. Boost's "opposite" rounding policy computes every bound with the FPU rounding
 // upward (a lower bound is -((-a) - b)). Switching the mode costs ~25 ns, so it is set once per
 // scope, not per operation: every Interval operation must run while a `RoundingScope` is alive on
-// the current thread. Evaluators and renderers open one scope per call or per tile. Debug builds
-// check it (IAA_CHECK_ROUNDING); tests/core/rounding_test.cpp proves the bounds under the flags of
-// the release build (-O2 -frounding-math).
+// the current thread. Evaluators and renderers open one scope per call or per tile. Builds that
+// define IAA_CHECK_ROUNDING (none does by default) assert it in division, powers and sqrt; the
+// evaluators' eval() checks it once per call; tests/core/rounding_test.cpp proves the bounds under
+// the flags the build really uses (Release: CMake's -O3 -DNDEBUG plus -frounding-math
+// -fno-fast-math from iaa_options; clang also gets -ffp-model=strict).
 //
 // Edge cases, all sound:
 // - Division by an interval containing 0: the hull of both sides, i.e. usually the whole line;

@@ -1,5 +1,6 @@
 // Proves that Interval bounds are outward rounded under the flags this target is really built with
-// (the release flags of iaa_options: -O2/-O3 with -frounding-math). Exact checks use __float128,
+// (tools/test.sh runs it in the Release build: CMake's -O3 -DNDEBUG plus iaa_options'
+// -frounding-math -fno-fast-math, and -ffp-model=strict with clang). Exact checks use __float128,
 // in which the sum and product of two doubles are exact.
 #include <gtest/gtest.h>
 
