@@ -83,16 +83,16 @@ struct IntervalGradRules {
   static IGrad pow_int(const IGrad& a, int n) {
     if (n == 0) return constant(1.0);
     // (a^n)' = n a^(n-1) a'
-    return {iaa::pow_int(a.v, n), igrad::scale(a.g, Interval(n) * iaa::pow_int(a.v, n - 1))};
+    return {iaa::pow_int(a.v, n), igrad::scale(a.g, iaa::scale(iaa::pow_int(a.v, n - 1), n))};
   }
   /// Real power; out of line (eval_interval_grad.cpp): long, and rare in surfaces.
   static IGrad pow(const IGrad& a, const IGrad& b, Domain*);
   static IGrad square(const IGrad& a) {
-    return {iaa::square(a.v), igrad::scale(a.g, Interval(2.0) * a.v)};
+    return {iaa::square(a.v), igrad::scale(a.g, iaa::scale(a.v, 2.0))};
   }
   static IGrad sqrt(const IGrad& a, Domain* d) {
     const Interval v = iaa::sqrt(a.v, d);
-    return {v, igrad::dquot(a.g, Interval(2.0) * v)};
+    return {v, igrad::dquot(a.g, iaa::scale(v, 2.0))};
   }
   static IGrad exp(const IGrad& a) {
     const Interval v = iaa::exp(a.v);
