@@ -11,12 +11,6 @@ namespace {
 
 using detail::Rounding;
 
-#ifdef IAA_CHECK_ROUNDING
-#define IAA_ASSERT_UPWARD() assert(rounding_is_upward() && "Interval op outside a RoundingScope")
-#else
-#define IAA_ASSERT_UPWARD() ((void)0)
-#endif
-
 constexpr double kInf = Interval::kInf;
 constexpr double kPi = std::numbers::pi;
 
@@ -79,10 +73,27 @@ Interval intersect(const Interval& a, const Interval& b) {
   return lo <= hi ? Interval::raw(lo, hi) : Interval::empty();
 }
 
-Interval divide(const Interval& a, const Interval& b, Domain* dom) {
+Interval detail::mul_general(const Interval& a, const Interval& b) {
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  // A factor that is exactly 0 makes the product 0 even when the other factor is unbounded
+  // (0 times any real is 0; IEEE's 0 * inf = NaN would otherwise widen the result to everything).
+  if ((a.lo() == 0.0 && a.hi() == 0.0) || (b.lo() == 0.0 && b.hi() == 0.0)) return Interval(0.0);
+  // The extreme endpoint products, as in operator*. An endpoint product 0 * inf is NaN; it
+  // stands for 0 times reals and is dropped (max_num ignores it), the other products bound the
+  // result. All four are NaN only when a or b is [0, 0], handled above.
+  const double al = a.lo(), ah = a.hi(), bl = b.lo(), bh = b.hi();
+  const double hi =
+      detail::max_num(detail::max_num(al * bl, al * bh), detail::max_num(ah * bl, ah * bh));
+  const double lo = -detail::max_num(detail::max_num((-al) * bl, (-al) * bh),
+                                     detail::max_num((-ah) * bl, (-ah) * bh));
+  return Interval(lo, hi);
+}
+
+// The divisor contains 0 or an argument is empty; divide() handles the rest inline.
+Interval detail::divide_general(const Interval& a, const Interval& b, Domain* dom) {
   IAA_ASSERT_UPWARD();
   if (a.is_empty() || b.is_empty()) return Interval::empty();
-  if (!b.contains_zero()) return Interval(a.boost() / b.boost());
+  if (!b.contains_zero()) return divide(a, b, dom);
   *dom = Domain::kPartial;
   if (b.lo() == 0.0 && b.hi() == 0.0) return Interval::empty();  // undefined everywhere
   if (a.lo() == 0.0 && a.hi() == 0.0) return Interval(0.0);      // 0 / y = 0 wherever defined
@@ -99,20 +110,6 @@ Interval divide(const Interval& a, const Interval& b, Domain* dom) {
   }
   // 0 strictly inside the divisor: the two branches together cover the whole line.
   return Interval::whole();
-}
-
-Interval operator/(const Interval& a, const Interval& b) {
-  Domain dom = Domain::kFull;
-  return divide(a, b, &dom);
-}
-
-Interval pow_int(const Interval& x, int n) {
-  IAA_ASSERT_UPWARD();
-  assert(n >= 0);
-  if (x.is_empty()) return x;
-  if (n == 0) return Interval(1.0);
-  if (n == 1) return x;
-  return Interval(boost::numeric::pow(x.boost(), n));
 }
 
 Interval sqrt(const Interval& x, Domain* dom) {
@@ -159,14 +156,14 @@ Interval log(const Interval& x, Domain* dom) {
 }
 
 namespace {
-// Shared by sin and cos: f has its maxima at offset + 2k pi and minima at offset + (2k+1) pi.
-Interval periodic_unit(const Interval& x, double (*f)(double), double max_offset) {
-  if (x.is_empty()) return x;
-  if (!x.is_finite() || x.mag() > kTrigArgLimit || x.hi() - x.lo() >= 2.0 * kPi) {
-    return Interval(-1.0, 1.0);
-  }
-  const double a = f(x.lo());
-  const double b = f(x.hi());
+// sin and cos of an argument this wide, unbounded or large take their whole range [-1, 1].
+bool trig_takes_whole_range(const Interval& x) {
+  return !x.is_finite() || x.mag() > kTrigArgLimit || x.hi() - x.lo() >= 2.0 * kPi;
+}
+// Shared by sin and cos, given f at the two ends of a non-empty x that is not
+// trig_takes_whole_range: f has its maxima at max_offset + 2k pi and minima at
+// max_offset + (2k+1) pi.
+Interval periodic_unit(const Interval& x, double a, double b, double max_offset) {
   double lo = widen_down(std::min(a, b));
   double hi = widen_up(std::max(a, b));
   // Extrema lie at max_offset + k pi: even k is a maximum, odd k a minimum.
@@ -177,19 +174,42 @@ Interval periodic_unit(const Interval& x, double (*f)(double), double max_offset
   }
   return Interval(std::max(lo, -1.0), std::min(hi, 1.0));
 }
-double sin_d(double v) {
-  return std::sin(v);
-}
-double cos_d(double v) {
-  return std::cos(v);
+// sin and cos of one argument. glibc's sincos gives the same values as its sin and cos (one
+// implementation) for about the cost of one of them; elsewhere, the two calls.
+void sincos_d(double v, double* s, double* c) {
+#if defined(__GLIBC__)
+  ::sincos(v, s, c);
+#else
+  *s = std::sin(v);
+  *c = std::cos(v);
+#endif
 }
 }  // namespace
 
 Interval sin(const Interval& x) {
-  return periodic_unit(x, sin_d, kPi / 2.0);
+  if (x.is_empty()) return x;
+  if (trig_takes_whole_range(x)) return Interval(-1.0, 1.0);
+  return periodic_unit(x, std::sin(x.lo()), std::sin(x.hi()), kPi / 2.0);
 }
 Interval cos(const Interval& x) {
-  return periodic_unit(x, cos_d, 0.0);
+  if (x.is_empty()) return x;
+  if (trig_takes_whole_range(x)) return Interval(-1.0, 1.0);
+  return periodic_unit(x, std::cos(x.lo()), std::cos(x.hi()), 0.0);
+}
+void sincos(const Interval& x, Interval* s, Interval* c) {
+  if (x.is_empty()) {
+    *s = *c = x;
+    return;
+  }
+  if (trig_takes_whole_range(x)) {
+    *s = *c = Interval(-1.0, 1.0);
+    return;
+  }
+  double sl, cl, sh, ch;
+  sincos_d(x.lo(), &sl, &cl);
+  sincos_d(x.hi(), &sh, &ch);
+  *s = periodic_unit(x, sl, sh, kPi / 2.0);
+  *c = periodic_unit(x, cl, ch, 0.0);
 }
 
 Interval tan(const Interval& x, Domain* dom) {

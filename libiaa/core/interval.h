@@ -7,9 +7,11 @@
 // Rounding mode. Boost's "opposite" rounding policy computes every bound with the FPU rounding
 // upward (a lower bound is -((-a) - b)). Switching the mode costs ~25 ns, so it is set once per
 // scope, not per operation: every Interval operation must run while a `RoundingScope` is alive on
-// the current thread. Evaluators and renderers open one scope per call or per tile. Debug builds
-// check it (IAA_CHECK_ROUNDING); tests/core/rounding_test.cpp proves the bounds under the flags of
-// the release build (-O2 -frounding-math).
+// the current thread. Evaluators and renderers open one scope per call or per tile. Builds that
+// define IAA_CHECK_ROUNDING (none does by default) assert it in division, powers and sqrt; the
+// evaluators' eval() checks it once per call; tests/core/rounding_test.cpp proves the bounds under
+// the flags the build really uses (Release: CMake's -O3 -DNDEBUG plus -frounding-math
+// -fno-fast-math from iaa_options; clang also gets -ffp-model=strict).
 //
 // Edge cases, all sound:
 // - Division by an interval containing 0: the hull of both sides, i.e. usually the whole line;
@@ -29,9 +31,14 @@
 
 #include <boost/numeric/interval.hpp>
 
+#include <algorithm>
+#include <cassert>
 #include <cfenv>
 #include <cmath>
 #include <limits>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace iaa {
 
@@ -72,10 +79,25 @@ class NearestScope {
   int saved_;
 };
 
-/// True when the current thread rounds upward, i.e. a RoundingScope is alive.
+/// True when the current thread rounds upward, i.e. a RoundingScope is alive. Cheap enough to
+/// call once per evaluation: on x86 it reads the SSE control register inline (the mode that double
+/// arithmetic really uses; fegetround() is a libm call that reads the x87 control word).
 inline bool rounding_is_upward() {
+#if defined(__SSE2_MATH__) && (defined(__x86_64__) || defined(__i386__))
+  // MXCSR bits 13-14 are the rounding control: 00 nearest, 01 down, 10 up, 11 toward zero.
+  return (_mm_getcsr() & 0x6000u) == 0x4000u;
+#else
   return std::fegetround() == FE_UPWARD;
+#endif
 }
+
+// Checks, in builds that define IAA_CHECK_ROUNDING, that an Interval operation runs upward.
+#ifdef IAA_CHECK_ROUNDING
+#define IAA_ASSERT_UPWARD() \
+  assert(::iaa::rounding_is_upward() && "Interval op outside a RoundingScope")
+#else
+#define IAA_ASSERT_UPWARD() ((void)0)
+#endif
 
 /// Number of ulps by which the results of <cmath> transcendental functions are widened.
 /// glibc documents at most 1-4 ulps of error for exp, log, sin, cos, tan, atan, pow on x86-64 in
@@ -126,6 +148,19 @@ class Interval {
 
   Boost boost() const { return Boost(lo_, hi_); }
 
+  /// Assigns v with one 16-byte store where SSE2 is available. The tape loop writes each result
+  /// slot once and later operations read it, often with one 16-byte load; a plain assignment may
+  /// compile to two 8-byte stores, and a 16-byte load of two pending 8-byte stores cannot be
+  /// forwarded from them: it stalls until they reach the cache (measured in `iaa bench tape`:
+  /// square after sub took about twice as long).
+  void store(const Interval& v) {
+#if defined(__SSE2__)
+    _mm_storeu_pd(&lo_, _mm_set_pd(v.hi_, v.lo_));
+#else
+    *this = v;
+#endif
+  }
+
   friend bool operator==(const Interval& a, const Interval& b) {
     return (a.is_empty() && b.is_empty()) || (a.lo_ == b.lo_ && a.hi_ == b.hi_);
   }
@@ -145,6 +180,8 @@ class Interval {
   double lo_, hi_;
 };
 
+static_assert(sizeof(Interval) == 2 * sizeof(double), "Interval::store writes lo and hi at once");
+
 /// Hull of two intervals (empty is the neutral element).
 Interval hull(const Interval& a, const Interval& b);
 /// Intersection (may be empty).
@@ -162,45 +199,59 @@ inline double max_num(double x, double y) {
 inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 }  // namespace detail
 
+// Each operation computes its bounds first and checks them once: the rare cases (an empty
+// argument, a NaN bound from inf - inf or 0 * inf) leave the fast path on one predictable branch.
+
 inline Interval operator+(const Interval& a, const Interval& b) {
-  if (a.is_empty() || b.is_empty()) return Interval::empty();
   // Rounding upward: x + y rounds up, -((-x) - y) rounds down (Boost's "opposite" trick, without
   // its volatile round trip, which only x87 code needs). -frounding-math keeps the compiler from
   // folding the two into one; tests/core/rounding_test.cpp checks it.
-  return Interval(-((-a.lo()) - b.lo()), a.hi() + b.hi());
+  const double lo = -((-a.lo()) - b.lo()), hi = a.hi() + b.hi();
+  // Non-empty arguments give lo <= hi unless a bound is NaN (inf - inf); an empty argument
+  // (lo = +inf, hi = -inf) gives lo = +inf or NaN and hi = -inf or NaN, never lo <= hi.
+  if (lo <= hi) [[likely]]
+    return Interval::raw(lo, hi);
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  return Interval(lo, hi);  // a NaN bound becomes infinite: "anything", outward
 }
 
 inline Interval operator-(const Interval& a, const Interval& b) {
+  const double lo = -(b.hi() - a.lo()), hi = a.hi() - b.lo();
+  if (lo <= hi) [[likely]]  // as in operator+
+    return Interval::raw(lo, hi);
   if (a.is_empty() || b.is_empty()) return Interval::empty();
-  return Interval(-(b.hi() - a.lo()), a.hi() - b.lo());
+  return Interval(lo, hi);
 }
 
 inline Interval operator-(const Interval& a) {
   return a.is_empty() ? a : Interval::raw(-a.hi(), -a.lo());
 }
 
-inline Interval operator*(const Interval& a, const Interval& b) {
-  if (a.is_empty() || b.is_empty()) return Interval::empty();
-  // A factor that is exactly 0 makes the product 0 even when the other factor is unbounded
-  // (0 times any real is 0; IEEE's 0 * inf = NaN would otherwise widen the result to everything).
-  if ((a.lo() == 0.0 && a.hi() == 0.0) || (b.lo() == 0.0 && b.hi() == 0.0)) return Interval(0.0);
-  // Branch-free: the bounds are the extreme endpoint products. With the FPU rounding upward,
-  // p rounds up and -((-x) * y) rounds down. An endpoint product 0 * inf is NaN; it stands for
-  // 0 times reals and is dropped (max_num ignores it), the other products bound the result.
-  const double al = a.lo(), ah = a.hi(), bl = b.lo(), bh = b.hi();
-  // Scaling by a finite point (a constant of the expression) needs two products.
-  if (bl == bh && bl > 0.0 && bl < detail::kInfinity) return Interval(-((-al) * bl), ah * bl);
-  if (bl == bh && bl < 0.0 && bl > -detail::kInfinity) return Interval(-((-ah) * bl), al * bl);
-  if (al == ah && al > 0.0 && al < detail::kInfinity) return Interval(-((-bl) * al), bh * al);
-  if (al == ah && al < 0.0 && al > -detail::kInfinity) return Interval(-((-bh) * al), bl * al);
-  const double hi =
-      detail::max_num(detail::max_num(al * bl, al * bh), detail::max_num(ah * bl, ah * bh));
-  const double lo = -detail::max_num(detail::max_num((-al) * bl, (-al) * bh),
-                                     detail::max_num((-ah) * bl, (-ah) * bh));
-  return Interval(lo, hi);
+namespace detail {
+/// True when the four bounds are finite, which also excludes the empty interval (infinite
+/// bounds). Bounds are never NaN.
+inline bool all_finite(double a, double b, double c, double d) {
+  const double m =
+      std::max(std::max(std::fabs(a), std::fabs(b)), std::max(std::fabs(c), std::fabs(d)));
+  return m <= std::numeric_limits<double>::max();
 }
-/// Division; see the header comment for divisors containing 0.
-Interval operator/(const Interval& a, const Interval& b);
+/// Product with an empty, unbounded or infinite argument (interval.cpp).
+Interval mul_general(const Interval& a, const Interval& b);
+}  // namespace detail
+
+inline Interval operator*(const Interval& a, const Interval& b) {
+  const double al = a.lo(), ah = a.hi(), bl = b.lo(), bh = b.hi();
+  if (detail::all_finite(al, ah, bl, bh)) [[likely]] {
+    // Branch-free: the bounds are the extreme endpoint products. With the FPU rounding upward,
+    // p rounds up and -((-x) * y) rounds down. Finite factors give no NaN product (an overflow
+    // is an infinity, still a bound), so a plain max is exact; lo <= hi as lo is the least and
+    // hi the greatest of the same products, rounded down and up.
+    const double hi = std::max(std::max(al * bl, al * bh), std::max(ah * bl, ah * bh));
+    const double lo = -std::max(std::max((-al) * bl, (-al) * bh), std::max((-ah) * bl, (-ah) * bh));
+    return Interval::raw(lo, hi);
+  }
+  return detail::mul_general(a, b);
+}
 inline Interval& operator+=(Interval& a, const Interval& b) {
   return a = a + b;
 }
@@ -217,13 +268,100 @@ enum class Domain : unsigned char {
   kPartial = 1,  ///< defined on part of the argument only, or has a pole inside it
 };
 
+namespace detail {
+/// Division with a divisor that may contain 0 or be empty (interval.cpp); see divide().
+Interval divide_general(const Interval& a, const Interval& b, Domain* dom);
+
+/// x^n for x >= 0 and n >= 1, rounded up. Binary powering, in the same order of multiplications
+/// as PointRules::pow_int, so that a point value (rounded in any mode) is bracketed step by step.
+/// Every factor is >= 0 and every product rounds up (upward mode), so each partial result is an
+/// upper bound of its exact value: the result is an upper bound of x^n (inf on overflow).
+inline double pow_up(double x, int n) {
+  double y = (n & 1) ? x : 1.0;
+  for (int p = n >> 1; p > 0; p >>= 1) {
+    x = x * x;
+    if (p & 1) y = x * y;
+  }
+  return y;
+}
+/// x^n for x >= 0 and n >= 1, rounded down: each product is -((-u) * v), which rounds u*v down
+/// under the upward mode, so each partial result is a lower bound (0 on underflow, DBL_MAX on
+/// overflow, both below the exact value).
+inline double pow_down(double x, int n) {
+  double y = (n & 1) ? x : 1.0;
+  for (int p = n >> 1; p > 0; p >>= 1) {
+    x = -((-x) * x);
+    if (p & 1) y = -((-x) * y);
+  }
+  return y;
+}
+/// Least and greatest |v| over a non-empty x, branch-free: the even powers are functions of
+/// them. The least is lo when x >= 0, -hi when x <= 0, and 0 when x straddles 0.
+inline void abs_range(const Interval& x, double* small, double* big) {
+  *big = std::max(-x.lo(), x.hi());
+  *small = std::max(0.0, std::max(x.lo(), -x.hi()));
+}
+}  // namespace detail
+
+/// a * c for a finite non-zero number c (a constant of the expression): two products, no tests.
+/// An empty a stays empty (its infinite bounds swap and keep lo > hi); an unbounded a stays
+/// unbounded (inf * c is an infinity, never NaN, as c != 0).
+inline Interval scale(const Interval& a, double c) {
+  IAA_ASSERT_UPWARD();
+  assert(std::isfinite(c) && c != 0.0);
+  const double l = c > 0.0 ? a.lo() : a.hi(), h = c > 0.0 ? a.hi() : a.lo();
+  return Interval::raw(-((-l) * c), h * c);
+}
+
+/// Division reporting kPartial when the divisor contains 0 (a pole or an undefined point).
+/// A divisor that excludes 0 (e.g. a constant) takes the inline path: two divisions.
+inline Interval divide(const Interval& a, const Interval& b, Domain* dom) {
+  IAA_ASSERT_UPWARD();
+  if (a.is_empty() || b.is_empty() || b.contains_zero()) return detail::divide_general(a, b, dom);
+  // a / b = (-a) / (-b): reduce to a divisor 0 < dl <= dh.
+  const bool neg = b.hi() < 0.0;
+  const double nl = neg ? -a.hi() : a.lo(), nh = neg ? -a.lo() : a.hi();
+  const double dl = neg ? -b.hi() : b.lo(), dh = neg ? -b.lo() : b.hi();
+  // The quotient is least at nl / dh when nl >= 0, else at nl / dl; greatest at nh / dl when
+  // nh >= 0, else at nh / dh. -((-u) / v) rounds u / v down. inf / inf is NaN, which the
+  // constructor turns into the infinite (outward) bound.
+  const double lo = -((-nl) / (nl >= 0.0 ? dh : dl));
+  const double hi = nh / (nh >= 0.0 ? dl : dh);
+  return Interval(lo, hi);
+}
+/// Division; see the header comment for divisors containing 0.
+inline Interval operator/(const Interval& a, const Interval& b) {
+  Domain dom = Domain::kFull;
+  return divide(a, b, &dom);
+}
+
 /// x*x, tight: [-2,1] -> [0,4].
 inline Interval square(const Interval& x) {
+  IAA_ASSERT_UPWARD();
   if (x.is_empty()) return x;
-  return Interval(boost::numeric::square(x.boost()));
+  double small, big;
+  detail::abs_range(x, &small, &big);
+  // No NaN: small and big are >= 0 and each is squared on its own.
+  return Interval::raw(-((-small) * small), big * big);
 }
-/// x^n for an integer n >= 0, tight. pow(x, 0) = [1,1] (also at x = 0, as for polynomials).
-Interval pow_int(const Interval& x, int n);
+/// x^n for an integer n >= 0, tight: even powers of an interval containing 0 start at 0, odd
+/// powers are increasing. pow(x, 0) = [1,1] (also at x = 0, as for polynomials).
+inline Interval pow_int(const Interval& x, int n) {
+  IAA_ASSERT_UPWARD();
+  assert(n >= 0);
+  if (x.is_empty()) return x;
+  if (n == 0) return Interval(1.0);
+  if (n == 1) return x;
+  if (n == 2) return square(x);
+  if (n & 1) {
+    const double lo = x.lo() >= 0.0 ? detail::pow_down(x.lo(), n) : -detail::pow_up(-x.lo(), n);
+    const double hi = x.hi() >= 0.0 ? detail::pow_up(x.hi(), n) : -detail::pow_down(-x.hi(), n);
+    return Interval::raw(lo, hi);
+  }
+  double small, big;
+  detail::abs_range(x, &small, &big);
+  return Interval::raw(detail::pow_down(small, n), detail::pow_up(big, n));
+}
 /// sqrt on x >= 0; clamps and reports kPartial when x reaches below 0.
 Interval sqrt(const Interval& x, Domain* dom);
 Interval exp(const Interval& x);
@@ -231,6 +369,9 @@ Interval exp(const Interval& x);
 Interval log(const Interval& x, Domain* dom);
 Interval sin(const Interval& x);
 Interval cos(const Interval& x);
+/// sin(x) and cos(x) at once, as the two functions give them; shares the work on x (one sincos
+/// per endpoint), for the gradient rules, which need both.
+void sincos(const Interval& x, Interval* s, Interval* c);
 /// tan; an interval that contains a pole gives the whole line and kPartial.
 Interval tan(const Interval& x, Domain* dom);
 Interval atan(const Interval& x);
@@ -240,8 +381,6 @@ Interval max(const Interval& a, const Interval& b);
 /// Real power x^y = exp(y log x) on x > 0 (x = 0 is allowed where y > 0). Clamps x to the domain
 /// and reports kPartial when it reaches below.
 Interval pow_real(const Interval& x, const Interval& y, Domain* dom);
-/// Division reporting kPartial when the divisor contains 0 (a pole or an undefined point).
-Interval divide(const Interval& a, const Interval& b, Domain* dom);
 
 /// Widens v outward by n ulps (toward -inf when down, +inf otherwise); infinities stay.
 double widen_down(double v, int n = kTranscUlps);

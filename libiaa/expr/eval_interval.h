@@ -12,9 +12,11 @@ struct IntervalRules {
   using Num = Interval;
   static constexpr bool kTracksChoices = true;
   static Interval constant(double v) { return Interval(v); }
+  static void store(Interval& o, const Interval& v) { o.store(v); }
   static Interval add(const Interval& a, const Interval& b) { return a + b; }
   static Interval sub(const Interval& a, const Interval& b) { return a - b; }
   static Interval mul(const Interval& a, const Interval& b) { return a * b; }
+  static Interval scale(const Interval& a, double c) { return iaa::scale(a, c); }
   static Interval div(const Interval& a, const Interval& b, Domain* d) { return divide(a, b, d); }
   static Interval neg(const Interval& a) { return -a; }
   static Interval pow_int(const Interval& a, int n) { return iaa::pow_int(a, n); }
@@ -48,11 +50,13 @@ class IntervalEval {
   /// The evaluator keeps a pointer to its tape, which must outlive it.
   explicit IntervalEval(Tape&&) = delete;
 
+  /// Checked: evaluates under a RoundingScope, opening one when the caller has none. The check is
+  /// an inline read of the rounding mode (interval.h), a few cycles per call; evaluation never
+  /// runs in another mode.
   Interval eval(const IBox& b) {
-    if (!rounding_is_upward()) {
-      RoundingScope scope;
+    if (rounding_is_upward()) [[likely]]
       return loop_.run(b.x, b.y, b.z);
-    }
+    RoundingScope scope;
     return loop_.run(b.x, b.y, b.z);
   }
   Interval eval(const Box3& b) { return eval(IBox(b)); }

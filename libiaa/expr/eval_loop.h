@@ -12,6 +12,18 @@
 
 namespace iaa::detail {
 
+/// Writes an operation's result to its slot, with the mode's own store when it has one
+/// (Rules::store: the interval modes write each interval with one 16-byte store, see
+/// Interval::store).
+template <class Rules, class Num>
+inline void put(Num& o, const Num& v) {
+  if constexpr (requires { Rules::store(o, v); }) {
+    Rules::store(o, v);
+  } else {
+    o = v;
+  }
+}
+
 template <class Rules>
 class TapeLoop {
  public:
@@ -39,6 +51,7 @@ class TapeLoop {
     s[2] = z;
     dom_ = Domain::kFull;
     const Instr* ins = tape_->instrs().data();
+    const double* k = tape_->constants().data();
     const int n = tape_->size();
     for (int i = tape_->first_op(); i < n; ++i) {
       const Instr& in = ins[i];
@@ -46,58 +59,61 @@ class TapeLoop {
       Num& o = s[i];
       switch (in.op) {
         case Op::kAdd:
-          o = Rules::add(a, s[in.b]);
+          put<Rules>(o, Rules::add(a, s[in.b]));
           break;
         case Op::kSub:
-          o = Rules::sub(a, s[in.b]);
+          put<Rules>(o, Rules::sub(a, s[in.b]));
           break;
         case Op::kMul:
-          o = Rules::mul(a, s[in.b]);
+          put<Rules>(o, Rules::mul(a, s[in.b]));
+          break;
+        case Op::kScale:
+          put<Rules>(o, Rules::scale(a, k[in.b]));
           break;
         case Op::kDiv:
-          o = Rules::div(a, s[in.b], &dom_);
+          put<Rules>(o, Rules::div(a, s[in.b], &dom_));
           break;
         case Op::kNeg:
-          o = Rules::neg(a);
+          put<Rules>(o, Rules::neg(a));
           break;
         case Op::kPowInt:
-          o = Rules::pow_int(a, in.power);
+          put<Rules>(o, Rules::pow_int(a, in.power));
           break;
         case Op::kPow:
-          o = Rules::pow(a, s[in.b], &dom_);
+          put<Rules>(o, Rules::pow(a, s[in.b], &dom_));
           break;
         case Op::kSquare:
-          o = Rules::square(a);
+          put<Rules>(o, Rules::square(a));
           break;
         case Op::kSqrt:
-          o = Rules::sqrt(a, &dom_);
+          put<Rules>(o, Rules::sqrt(a, &dom_));
           break;
         case Op::kExp:
-          o = Rules::exp(a);
+          put<Rules>(o, Rules::exp(a));
           break;
         case Op::kLog:
-          o = Rules::log(a, &dom_);
+          put<Rules>(o, Rules::log(a, &dom_));
           break;
         case Op::kSin:
-          o = Rules::sin(a);
+          put<Rules>(o, Rules::sin(a));
           break;
         case Op::kCos:
-          o = Rules::cos(a);
+          put<Rules>(o, Rules::cos(a));
           break;
         case Op::kTan:
-          o = Rules::tan(a, &dom_);
+          put<Rules>(o, Rules::tan(a, &dom_));
           break;
         case Op::kAtan:
-          o = Rules::atan(a);
+          put<Rules>(o, Rules::atan(a));
           break;
         case Op::kAbs:
-          o = Rules::abs(a);
+          put<Rules>(o, Rules::abs(a));
           break;
         case Op::kMin:
-          o = Rules::min(a, s[in.b], choice(i));
+          put<Rules>(o, Rules::min(a, s[in.b], choice(i)));
           break;
         case Op::kMax:
-          o = Rules::max(a, s[in.b], choice(i));
+          put<Rules>(o, Rules::max(a, s[in.b], choice(i)));
           break;
         case Op::kVarX:
         case Op::kVarY:

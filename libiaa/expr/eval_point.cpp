@@ -7,19 +7,6 @@
 
 namespace iaa::detail {
 
-// Binary powering in the same order of multiplications as Boost's interval pow, so that the point
-// value is bracketed by the interval bounds step by step.
-double PointRules::pow_int(double a, int n) {
-  if (n == 0) return a == a ? 1.0 : a;  // x^0 = 1 wherever x is defined
-  double x = std::fabs(a);
-  double y = (n & 1) ? x : 1.0;
-  for (int p = n >> 1; p > 0; p >>= 1) {
-    x = x * x;
-    if (p & 1) y = x * y;
-  }
-  return (a < 0.0 && (n & 1)) ? -y : y;
-}
-
 // Real power exp(b log a), defined for a > 0, and at a = 0 for b > 0 (as the interval rule):
 // x^2.5 at x = -1 and 0^0 are undefined (NaN).
 double PointRules::pow(double a, double b, Domain*) {

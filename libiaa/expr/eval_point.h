@@ -3,6 +3,7 @@
 // surface here".
 #pragma once
 
+#include <cmath>
 #include <limits>
 
 #include "core/vec.h"
@@ -18,13 +19,26 @@ struct PointRules {
   static double add(double a, double b) { return a + b; }
   static double sub(double a, double b) { return a - b; }
   static double mul(double a, double b) { return a * b; }
+  static double scale(double a, double c) { return a * c; }
   // A pole (division by exactly 0, log of 0) is undefined, NaN, as in the interval rules; IEEE's
   // infinities would turn finite again downstream (atan(1/0) = pi/2) where intervals say empty.
   static double div(double a, double b, Domain*) {
     return b == 0.0 ? std::numeric_limits<double>::quiet_NaN() : a / b;
   }
   static double neg(double a) { return -a; }
-  static double pow_int(double a, int n);
+  // Binary powering in the same order of multiplications as the interval rule (interval.h's
+  // detail::pow_up/pow_down), so that the point value is bracketed by the interval bounds step by
+  // step. Inline: it is the hot operation of polynomial surfaces.
+  static double pow_int(double a, int n) {
+    if (n == 0) return a == a ? 1.0 : a;  // x^0 = 1 wherever x is defined
+    double x = std::fabs(a);
+    double y = (n & 1) ? x : 1.0;
+    for (int p = n >> 1; p > 0; p >>= 1) {
+      x = x * x;
+      if (p & 1) y = x * y;
+    }
+    return (a < 0.0 && (n & 1)) ? -y : y;
+  }
   static double pow(double a, double b, Domain*);
   static double square(double a) { return a * a; }
   static double sqrt(double a, Domain*);

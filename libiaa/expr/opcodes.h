@@ -3,7 +3,9 @@
 // `callable` operations can be written as functions in the surface language (`sqrt(x)`); the
 // others come from operators (`+ - * / ^`) or are leaves. Parser, tape printer and evaluators are
 // driven by this list; adding a function is one line here plus its evaluation rule in each
-// evaluator (the compiler points at every switch that misses it).
+// evaluator (the compiler points at every switch that misses it). `scale` is a product whose second
+// argument is a finite non-zero constant; only the tape compiler makes it (Tape::compile), so
+// that evaluators multiply by a known number without the tests a general product needs.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +21,7 @@ namespace iaa {
   X(kAdd, "add", 2, false)      \
   X(kSub, "sub", 2, false)      \
   X(kMul, "mul", 2, false)      \
+  X(kScale, "scale", 2, false)  \
   X(kDiv, "div", 2, false)      \
   X(kNeg, "neg", 1, false)      \
   X(kPowInt, "powi", 1, false)  \

@@ -1,7 +1,10 @@
 #include "expr/tape.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <unordered_map>
+#include <utility>
 
 #include "core/error.h"
 
@@ -55,6 +58,14 @@ Tape Tape::compile(const Dag& dag) {
     ins.a = n.a >= 0 ? slot[static_cast<std::size_t>(n.a)] : -1;
     ins.b = n.b >= 0 ? slot[static_cast<std::size_t>(n.b)] : -1;
     ins.power = n.power;
+    // A product with a finite non-zero constant becomes `scale`, the constant second.
+    const auto finite_nonzero_const = [&](std::int32_t sl) {
+      const Instr& c = t.instrs_[static_cast<std::size_t>(sl)];
+      const double v = t.constants_[static_cast<std::size_t>(sl)];
+      return c.op == Op::kConst && std::isfinite(v) && v != 0.0;
+    };
+    if (n.op == Op::kMul && finite_nonzero_const(ins.a)) std::swap(ins.a, ins.b);
+    if (n.op == Op::kMul && finite_nonzero_const(ins.b)) ins.op = Op::kScale;
     if (n.op == Op::kMin || n.op == Op::kMax) t.has_min_max_ = true;
     slot[i] = static_cast<std::int32_t>(t.instrs_.size());
     t.instrs_.push_back(ins);
@@ -68,50 +79,126 @@ Tape Tape::parse(std::string_view text, const Params& params) {
   return compile(parse_expression(text, params));
 }
 
-std::string Tape::to_text() const {
-  std::vector<std::string> s(instrs_.size());
-  for (std::size_t i = 0; i < instrs_.size(); ++i) {
-    const Instr& in = instrs_[i];
-    auto A = [&] { return s[static_cast<std::size_t>(in.a)]; };
-    auto B = [&] { return s[static_cast<std::size_t>(in.b)]; };
+namespace {
+
+// Infix operators and their precedence group (1: + -, 2: * /); 0 for the rest.
+int infix_group(Op op) {
+  switch (op) {
+    case Op::kAdd:
+    case Op::kSub:
+      return 1;
+    case Op::kMul:
+    case Op::kScale:
+    case Op::kDiv:
+      return 2;
+    default:
+      return 0;
+  }
+}
+
+}  // namespace
+
+std::string Tape::to_text(std::size_t max_chars) const {
+  // An explicit stack of pieces still to write, instead of one string per slot (which held every
+  // subexpression in full: quadratic memory for a long sum) or recursion (a sum of 10^5 terms is
+  // a chain 10^5 deep). A piece is a slot to expand or a fixed piece of text; the stack holds a
+  // few pieces per level of the expression.
+  enum Kind : std::uint8_t { kSlot, kBareSlot, kText, kPower };
+  struct Piece {
+    Kind kind;
+    std::int32_t slot;  // kSlot/kBareSlot: the slot; kPower: the powi instruction
+    const char* text;   // kText
+  };
+  std::vector<Piece> todo{{kSlot, root_, nullptr}};
+  std::string out;
+  const auto text = [](const char* t) { return Piece{kText, 0, t}; };
+  while (!todo.empty() && out.size() <= max_chars) {
+    const Piece p = todo.back();
+    todo.pop_back();
+    if (p.kind == kText) {
+      out += p.text;
+      continue;
+    }
+    const Instr& in = instrs_[static_cast<std::size_t>(p.slot)];
+    if (p.kind == kPower) {
+      out += std::to_string(in.power);
+      continue;
+    }
+    // Pushed in reverse order of writing.
+    const bool bare = p.kind == kBareSlot;
+    const int group = infix_group(in.op);
+    // The left operand of an infix operator needs no parentheses when it is in the same group:
+    // (a - b) + c is a - b + c, as the parser reads chains from the left.
+    const auto left = [&](std::int32_t slot) {
+      const bool same =
+          group != 0 && infix_group(instrs_[static_cast<std::size_t>(slot)].op) == group;
+      return Piece{same ? kBareSlot : kSlot, slot, nullptr};
+    };
+    const auto infix = [&](std::int32_t l, const char* op, std::int32_t r) {
+      if (!bare) todo.push_back(text(")"));
+      todo.push_back({kSlot, r, nullptr});
+      todo.push_back(text(op));
+      todo.push_back(left(l));
+      if (!bare) todo.push_back(text("("));
+    };
     switch (in.op) {
       case Op::kVarX:
-        s[i] = "x";
+        out += 'x';
         break;
       case Op::kVarY:
-        s[i] = "y";
+        out += 'y';
         break;
       case Op::kVarZ:
-        s[i] = "z";
+        out += 'z';
         break;
       case Op::kConst:
-        s[i] = format_number(constants_[i]);
+        out += format_number(constants_[static_cast<std::size_t>(p.slot)]);
         break;
       case Op::kAdd:
-        s[i] = "(" + A() + " + " + B() + ")";
+        infix(in.a, " + ", in.b);
         break;
       case Op::kSub:
-        s[i] = "(" + A() + " - " + B() + ")";
+        infix(in.a, " - ", in.b);
         break;
       case Op::kMul:
-        s[i] = "(" + A() + " * " + B() + ")";
+        infix(in.a, " * ", in.b);
+        break;
+      case Op::kScale:  // the constant first, as it is usually written
+        infix(in.b, " * ", in.a);
         break;
       case Op::kDiv:
-        s[i] = "(" + A() + " / " + B() + ")";
+        infix(in.a, " / ", in.b);
         break;
       case Op::kNeg:
-        s[i] = "(-" + A() + ")";
+        todo.push_back(text(")"));
+        todo.push_back({kSlot, in.a, nullptr});
+        out += "(-";
         break;
       case Op::kPowInt:
-        s[i] = "(" + A() + "^" + std::to_string(in.power) + ")";
+        todo.push_back(text(")"));
+        todo.push_back({kPower, p.slot, nullptr});
+        todo.push_back(text("^"));
+        todo.push_back({kSlot, in.a, nullptr});
+        out += '(';
         break;
       default: {
         const OpInfo& inf = info(in.op);
-        s[i] = std::string(inf.text) + "(" + A() + (inf.arity == 2 ? ", " + B() : "") + ")";
+        todo.push_back(text(")"));
+        if (inf.arity == 2) {
+          todo.push_back({kSlot, in.b, nullptr});
+          todo.push_back(text(", "));
+        }
+        todo.push_back({kSlot, in.a, nullptr});
+        out.append(inf.text);
+        out += '(';
       }
     }
   }
-  return s[static_cast<std::size_t>(root_)];
+  if (out.size() > max_chars || !todo.empty()) {
+    out.resize(std::min(out.size(), max_chars));
+    out += "...";
+  }
+  return out;
 }
 
 std::string Tape::listing() const {

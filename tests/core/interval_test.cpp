@@ -24,6 +24,26 @@ TEST_F(IntervalTest, IntegerPowersAreTight) {
   EXPECT_EQ(pow_int(Interval(-2, 1), 3), Interval(-8, 1));
   EXPECT_EQ(pow_int(Interval(-3, -2), 4), Interval(16, 81));
   EXPECT_EQ(pow_int(Interval(-3, 5), 0), Interval(1));
+  // Even powers of an interval containing 0 start at 0, whatever side is longer.
+  for (int n = 2; n <= 8; n += 2) {
+    EXPECT_EQ(pow_int(Interval(-2, 1), n).lo(), 0.0) << n;
+    EXPECT_EQ(pow_int(Interval(-1, 2), n), Interval(0, std::ldexp(1.0, n))) << n;
+    EXPECT_EQ(pow_int(Interval(0, 2), n), Interval(0, std::ldexp(1.0, n))) << n;
+  }
+  for (int n = 3; n <= 7; n += 2) {
+    EXPECT_EQ(pow_int(Interval(-2, 1), n), Interval(-std::ldexp(1.0, n), 1)) << n;
+    EXPECT_EQ(pow_int(Interval(-2, -1), n), Interval(-std::ldexp(1.0, n), -1)) << n;
+  }
+  // Overflow gives an infinite upper bound and the largest double as lower bound (both sound);
+  // underflow gives 0 below and a positive bound above.
+  EXPECT_EQ(pow_int(Interval(1e200), 4), Interval(DBL_MAX, kInf));
+  EXPECT_EQ(pow_int(Interval(-1e200), 3), Interval(-kInf, -DBL_MAX));
+  const Interval tiny = pow_int(Interval(1e-200), 4);
+  EXPECT_EQ(tiny.lo(), 0.0);
+  EXPECT_GT(tiny.hi(), 0.0);
+  EXPECT_EQ(pow_int(Interval(-kInf, 2), 4), Interval(0, kInf));
+  EXPECT_EQ(pow_int(Interval(-kInf, -2), 5), Interval(-kInf, -32));
+  EXPECT_TRUE(pow_int(Interval::empty(), 6).is_empty());
   // x*x with the same interval is not tight: the dependency problem square() avoids.
   EXPECT_EQ(Interval(-2, 3) * Interval(-2, 3), Interval(-6, 9));
 }
@@ -43,6 +63,26 @@ TEST_F(IntervalTest, DivisionAcrossZero) {
   dom_ = Domain::kFull;
   EXPECT_EQ(divide(Interval(1, 2), Interval(2, 4), &dom_), Interval(0.25, 1));
   EXPECT_EQ(dom_, Domain::kFull);
+}
+
+TEST_F(IntervalTest, ScalingByAConstant) {
+  EXPECT_EQ(scale(Interval(-1, 2), 3), Interval(-3, 6));
+  EXPECT_EQ(scale(Interval(-1, 2), -3), Interval(-6, 3));
+  EXPECT_EQ(scale(Interval(-kInf, 2), -0.5), Interval(-1, kInf));
+  EXPECT_TRUE(scale(Interval::empty(), 2).is_empty());
+  EXPECT_TRUE(scale(Interval::empty(), -2).is_empty());
+  EXPECT_EQ(scale(Interval(1e300), 1e300), Interval(DBL_MAX, kInf));
+}
+
+TEST_F(IntervalTest, DivisionByIntervalsThatExcludeZero) {
+  EXPECT_EQ(Interval(-1, 2) / Interval(4), Interval(-0.25, 0.5));
+  EXPECT_EQ(Interval(-1, 2) / Interval(-4), Interval(-0.5, 0.25));
+  EXPECT_EQ(Interval(1, 2) / Interval(-4, -1), Interval(-2, -0.25));
+  EXPECT_EQ(Interval(-2, -1) / Interval(1, 4), Interval(-2, -0.25));
+  EXPECT_EQ(Interval(1, kInf) / Interval(2, kInf), Interval(0, kInf));
+  EXPECT_TRUE((Interval::empty() / Interval(2)).is_empty());
+  const Interval third = Interval(1) / Interval(3);
+  EXPECT_LT(third.lo(), third.hi());
 }
 
 TEST_F(IntervalTest, DomainErrorsClampAndReport) {

@@ -1,11 +1,15 @@
 // Proves that Interval bounds are outward rounded under the flags this target is really built with
-// (the release flags of iaa_options: -O2/-O3 with -frounding-math). Exact checks use __float128,
+// (tools/test.sh runs it in the Release build: CMake's -O3 -DNDEBUG plus iaa_options'
+// -frounding-math -fno-fast-math, and -ffp-model=strict with clang). Exact checks use __float128,
 // in which the sum and product of two doubles are exact.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <random>
+#include <utility>
 
 #include "core/interval.h"
 
@@ -84,6 +88,104 @@ TEST(Rounding, ScopeRestoresTheCallersMode) {
     EXPECT_TRUE(rounding_is_upward());
   }
   EXPECT_EQ(std::fegetround(), before);
+}
+
+// A random double with `bits` significant bits and a binary exponent in [-20, 20]: its powers up
+// to n = 112 / bits are exact in __float128 (113-bit significand).
+double random_bits(std::mt19937_64& rng, int bits) {
+  std::uniform_int_distribution<std::int64_t> mant(std::int64_t{1} << (bits - 1),
+                                                   (std::int64_t{1} << bits) - 1);
+  std::uniform_int_distribution<int> ex(-20, 20);
+  return std::ldexp(static_cast<double>(mant(rng)), ex(rng) - bits);
+}
+
+Q qpow(double v, int n) {
+  Q r = 1;
+  for (int i = 0; i < n; ++i) r *= Q(v);  // exact: see random_bits
+  return r;
+}
+
+// pow_int for n = 2..8 (the inline repeated-squaring path) over intervals that straddle 0, touch
+// it, are points or lie on one side, with ends chosen so that the exact range is known in quad.
+TEST(Rounding, IntegerPowersEncloseTheExactRange) {
+  std::mt19937_64 rng(3);
+  RoundingScope scope;
+  // Binary powering does at most 6 roundings for n <= 8, each within 1 ulp: the bounds are
+  // tight to 8 relative ulps (2^-52 each) of the exact extremes.
+  const Q slack = Q(8) * Q(DBL_EPSILON);
+  for (int n = 2; n <= 8; ++n) {
+    const int bits = std::min(53, 112 / n);
+    int strict = 0;
+    for (int i = 0; i < 30000; ++i) {
+      double a = random_bits(rng, bits), b = random_bits(rng, bits);
+      switch (i % 6) {
+        case 0:  // straddles 0
+          a = -a;
+          break;
+        case 1:  // touches 0 from above
+          a = 0.0;
+          break;
+        case 2:  // touches 0 from below
+          a = -a;
+          b = 0.0;
+          break;
+        case 3:  // a point
+          b = (i % 12 == 3) ? -a : a;
+          a = b;
+          break;
+        case 4:  // negative
+          a = -a;
+          b = -b;
+          break;
+        default:  // positive
+          break;
+      }
+      if (a > b) std::swap(a, b);
+      const Interval p = pow_int(Interval(a, b), n);
+      const Q pa = qpow(a, n), pb = qpow(b, n);
+      Q lo = std::min(pa, pb), hi = std::max(pa, pb);
+      if (n % 2 == 0 && a <= 0 && 0 <= b) lo = 0;
+      ASSERT_TRUE(Q(p.lo()) <= lo && hi <= Q(p.hi())) << "[" << a << ", " << b << "]^" << n;
+      // Tight: an even power of an interval containing 0 starts exactly at 0, and no bound is
+      // further than the rounding error from the exact extreme.
+      if (n % 2 == 0 && a <= 0 && 0 <= b) {
+        ASSERT_EQ(p.lo(), 0.0) << "[" << a << ", " << b << "]";
+      }
+      const Q mag = std::max(lo < 0 ? -lo : lo, hi < 0 ? -hi : hi);
+      ASSERT_LE(lo - Q(p.lo()), slack * mag) << "[" << a << ", " << b << "]^" << n;
+      ASSERT_LE(Q(p.hi()) - hi, slack * mag) << "[" << a << ", " << b << "]^" << n;
+      strict += Q(p.hi()) > hi;
+    }
+    // Where bits * n > 53 most exact powers are not doubles: the upper bound must then be strictly
+    // above, which it would not be if the compiler had rounded the products to nearest.
+    if (bits * n > 60) {
+      EXPECT_GT(strict, 10000) << "n = " << n;
+    }
+  }
+}
+
+// Products with a constant (Tape's `scale`) and divisions by one (the inline path of divide).
+TEST(Rounding, ScalingAndDivisionByAConstantEncloseTheExactRange) {
+  std::mt19937_64 rng(4);
+  RoundingScope scope;
+  for (int i = 0; i < 200000; ++i) {
+    double a = random_double(rng), b = random_double(rng);
+    if (a > b) std::swap(a, b);
+    const double c = random_double(rng);
+    const Interval x(a, b);
+    const Interval s = scale(x, c);
+    const Interval m = x * Interval(c);
+    const Q qa = Q(a) * Q(c), qb = Q(b) * Q(c);
+    ASSERT_TRUE(Q(s.lo()) <= std::min(qa, qb) && std::max(qa, qb) <= Q(s.hi())) << a << " " << c;
+    ASSERT_EQ(s, m) << "scale and * differ on [" << a << ", " << b << "] * " << c;
+    const Interval q = x / Interval(c);
+    // lo <= a/c  <=>  lo*c <= a for c > 0 (reversed for c < 0); exact in quad.
+    if (c > 0) {
+      ASSERT_TRUE(Q(q.lo()) * Q(c) <= Q(a) && Q(b) <= Q(q.hi()) * Q(c)) << a << " / " << c;
+    } else {
+      ASSERT_TRUE(Q(q.lo()) * Q(c) >= Q(b) && Q(a) >= Q(q.hi()) * Q(c)) << a << " / " << c;
+    }
+  }
 }
 
 TEST(Rounding, PowersOfNonRepresentableResultsAreStrict) {

@@ -42,6 +42,20 @@ check bad-point 1 "expected three numbers" -- "$iaa" eval 'x' --at 1,2
 check missing-file 1 "cannot read" -- "$iaa" eval --file "$tmp/none.txt"
 python3 -c 'print("(" * 100000 + "x" + ")" * 100000)' > "$tmp/deep.txt"
 check deep-nesting 1 "nested too deeply" -- "$iaa" eval --file "$tmp/deep.txt" --at 0,0,0
+# A long flat expression evaluates in linear time and memory (the printed expression is cut):
+# 100 000 terms under a 2 GB address-space limit (printing it once took 4.7 GB for 30 000).
+python3 -c 'print(" + ".join(["x"] * 100000))' > "$tmp/sum.txt"
+check long-sum 0 "f       = 100000" -- bash -c 'ulimit -v 2000000 && "$0" eval --file "$1" --at 1,0,0' \
+  "$iaa" "$tmp/sum.txt"
+check long-sum-box 0 "F       = [50000, 100000]" -- bash -c \
+  'ulimit -v 2000000 && "$0" eval --file "$1" --box 0.5:1,0:0,0:0' "$iaa" "$tmp/sum.txt"
+check long-sum-cut 0 "(the first 2000 characters" -- bash -c \
+  'ulimit -v 2000000 && "$0" eval --file "$1"' "$iaa" "$tmp/sum.txt"
 check help 0 "Examples:" -- "$iaa" eval --help
+# bench tape says whether interval evaluation meets its target (the verdict, not the speed, is
+# checked: speed is measured, not asserted).
+check bench-tape-target 0 "target: interval within 4x" -- "$iaa" bench tape --points 100 --runs 1 \
+  --json "$tmp/tape.json"
+check bench-tape-json 0 '"within_target"' -- cat "$tmp/tape.json"
 check no-command nonzero "subcommand is required" -- "$iaa"
 exit $fail

@@ -166,12 +166,14 @@ TYPED_TEST(Containment, PointValuesLieInIntervalValues) {
 
 // Every operation on its own over hand-picked hard boxes (poles, domain edges, zero widths).
 TYPED_TEST(Containment, EachOperationOnHardBoxes) {
-  const char* kExprs[] = {"x + y",     "x - y",       "x * y",         "x / y",
-                          "-x",        "x^3",         "x^4",           "x^(-3)",
-                          "pow(x, y)", "pow(x, 2.5)", "square(x)",     "sqrt(x)",
-                          "exp(x)",    "log(x)",      "sin(x)",        "cos(x)",
-                          "tan(x)",    "atan(x)",     "abs(x)",        "min(x, y)",
-                          "max(x, y)", "x / (x - y)", "sqrt(x*x - 1)", "log(abs(x) - 0.5)"};
+  const char* kExprs[] = {"x + y", "x - y", "x * y", "x / y", "-x", "x^3", "x^4", "x^(-3)",
+                          "pow(x, y)", "pow(x, 2.5)", "square(x)", "sqrt(x)", "exp(x)", "log(x)",
+                          "sin(x)", "cos(x)", "tan(x)", "atan(x)", "abs(x)", "min(x, y)",
+                          "max(x, y)", "x / (x - y)", "sqrt(x*x - 1)", "log(abs(x) - 0.5)",
+                          // Integer powers by repeated squaring, the scale and divide-by-constant
+                          // fast paths, and sin/cos sharing one sincos in the gradient modes.
+                          "x^5", "x^6", "x^7", "x^8", "(x - 0.5)^6", "(y - x)^7", "3 * x",
+                          "x * (-0.1)", "x / 3", "x / (-7.25)", "sin(x) * cos(x)", "cos(3 * x)"};
   const double kEnds[] = {-1e300,
                           -1e9,
                           -3.2,

@@ -89,6 +89,23 @@ TEST(Parser, RoundTripThroughText) {
   }
 }
 
+TEST(Parser, TextOfLongExpressionsIsLinearAndCut) {
+  // Chains read from the left need no inner parentheses.
+  EXPECT_EQ(Tape::parse("x - y - z + 1").to_text(), "(x - y - z + 1)");
+  EXPECT_EQ(Tape::parse("x / y * z").to_text(), "(x / y * z)");
+  EXPECT_EQ(Tape::parse("x - (y - z)").to_text(), "(x - (y - z))");
+  // A sum of 10^5 terms: the text is written without one string per slot, and cut on request.
+  std::string sum = "x";
+  for (int i = 1; i < 100000; ++i) sum += " + x";
+  const Tape t = Tape::parse(sum);
+  const std::string cut = t.to_text(50);
+  EXPECT_EQ(cut.size(), 53u);
+  EXPECT_EQ(cut.substr(50), "...");
+  const std::string full = t.to_text();
+  EXPECT_EQ(full.size(), 100000u + 99999u * 5);  // "x" and per addition " + " and parentheses
+  EXPECT_EQ(t.to_text(full.size()), full);       // exactly long enough: not cut
+}
+
 TEST(Parser, ErrorsNamePositionAndExpectation) {
   expect_error("", 1, 1, "expected an expression");
   expect_error("   \n  ", 2, 3, "expected an expression");

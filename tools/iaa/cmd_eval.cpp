@@ -57,7 +57,15 @@ void run(const EvalOptions& o) {
   }
   const std::string text = o.file.empty() ? o.expr : tools::read_file(o.file);
   const Tape tape = Tape::parse(text, parse_params(o.params));
-  std::printf("expression  %s\n", tape.to_text().c_str());
+  // The expression as the tape reads it, cut for long input (a sum of 10^5 terms): --tape lists
+  // every operation.
+  constexpr std::size_t kShownChars = 2000;
+  const std::string shown = tape.to_text(kShownChars);
+  std::printf("expression  %s\n", shown.c_str());
+  if (shown.size() > kShownChars) {
+    std::printf("            (the first %zu characters; --tape lists every operation)\n",
+                kShownChars);
+  }
   std::printf("tape        %d slots, %d operations\n", tape.size(), tape.op_count());
   if (o.tape) std::printf("\n%s", tape.listing().c_str());
   if (!o.at.empty()) {
