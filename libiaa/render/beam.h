@@ -35,7 +35,7 @@ struct BeamSearch {
 ///
 /// `parent`, when not null, is a Full result of a beam that contains this one: its slices
 /// contain this beam's slices, so its proof carries over and this beam is Full without new
-/// slice evaluations (t_far is only tightened where cheap).
+/// slice evaluations (its t_far is the parent's; see tighten_far()).
 ///
 /// With `prove_full` false a beam that is not a Miss is returned as Partial without trying the
 /// slices for full coverage (a caller that would gain nothing from the proof).
