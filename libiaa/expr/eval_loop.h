@@ -93,8 +93,10 @@ class TapeLoop {
       const Instr& in = ins[i];
       const Num& a = s[in.a];
       Num& o = s[i];
-      // `m` is empty, or the slot's mask for a mode that uses masks.
-      const auto step = [&](auto... m) {
+      // `m` is empty, or the slot's mask for a mode that uses masks. Forced inline: with the
+      // eight mask copies below GCC otherwise keeps the step (and the rules in it) out of line,
+      // which made the render slower although it ran fewer instructions.
+      const auto step = [&](auto... m) __attribute__((always_inline)) {
         switch (in.op) {
           case Op::kAdd:
             put<Rules>(o, Rules::add(a, s[in.b], m...), m...);
