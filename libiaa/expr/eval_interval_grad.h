@@ -19,26 +19,36 @@ struct IGrad {
 
 namespace detail {
 
-// Gradient helpers: the three partial derivatives at once.
+// Gradient helpers: the partial derivatives named by the output slot's VarMask `m` (the others
+// are structurally 0: the slot keeps them at [0,0] and the result leaves them unset).
 namespace igrad {
 using G = std::array<Interval, 3>;
-inline G scale(const G& g, const Interval& s) {
-  return {g[0] * s, g[1] * s, g[2] * s};
+/// out[i] = f(i) for each component i in m.
+template <class F>
+inline G each(VarMask m, F f) {
+  G out;
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (m & (1u << i)) out[i] = f(i);
+  }
+  return out;
 }
-inline G scale(const G& g, double c) {
-  return {iaa::scale(g[0], c), iaa::scale(g[1], c), iaa::scale(g[2], c)};
+inline G scale(const G& g, const Interval& s, VarMask m) {
+  return each(m, [&](std::size_t i) { return g[i] * s; });
 }
-inline G plus(const G& a, const G& b) {
-  return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+inline G scale(const G& g, double c, VarMask m) {
+  return each(m, [&](std::size_t i) { return iaa::scale(g[i], c); });
 }
-inline G minus(const G& a, const G& b) {
-  return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+inline G plus(const G& a, const G& b, VarMask m) {
+  return each(m, [&](std::size_t i) { return a[i] + b[i]; });
 }
-inline G negate(const G& a) {
-  return {-a[0], -a[1], -a[2]};
+inline G minus(const G& a, const G& b, VarMask m) {
+  return each(m, [&](std::size_t i) { return a[i] - b[i]; });
 }
-inline G hulls(const G& a, const G& b) {
-  return {hull(a[0], b[0]), hull(a[1], b[1]), hull(a[2], b[2])};
+inline G negate(const G& a, VarMask m) {
+  return each(m, [&](std::size_t i) { return -a[i]; });
+}
+inline G hulls(const G& a, const G& b, VarMask m) {
+  return each(m, [&](std::size_t i) { return hull(a[i], b[i]); });
 }
 // Quotient for derivatives: where the divisor may vanish the derivative is unbounded (or, for a
 // numerator that is exactly 0, 0), never `empty`.
@@ -47,102 +57,117 @@ inline Interval dquot(const Interval& num, const Interval& den) {
   if (den.contains_zero()) return Interval::whole();
   return num / den;
 }
-inline G dquot(const G& g, const Interval& den) {
-  return {dquot(g[0], den), dquot(g[1], den), dquot(g[2], den)};
+inline G dquot(const G& g, const Interval& den, VarMask m) {
+  return each(m, [&](std::size_t i) { return dquot(g[i], den); });
 }
 }  // namespace igrad
 
 // Rules of the interval + gradient mode. Each derivative rule is the interval extension of the
 // calculus rule evaluated with enclosures of its arguments, hence an enclosure of the derivative.
 // They are inline, as the interval rules are, so that the tape loop compiles them in place.
+//
+// Sparse: each rule gets the output slot's VarMask `m` and computes only the partials along the
+// variables the slot depends on; the others are exactly 0 by structure, stay [0,0] in the slot
+// (the loop initializes slots to 0 and `store` never writes them) and are not computed. An
+// argument's component outside the argument's own mask reads as that exact 0.
 struct IntervalGradRules {
   using Num = IGrad;
   static constexpr bool kTracksChoices = false;
+  static constexpr bool kUsesVarMasks = true;
   static IGrad constant(double v) {
     return {Interval(v), {Interval(0.0), Interval(0.0), Interval(0.0)}};
   }
-  // Each interval with one 16-byte store (Interval::store).
-  static void store(IGrad& o, const IGrad& v) {
+  // Each interval with one 16-byte store (Interval::store); only the components in the mask.
+  static void store(IGrad& o, const IGrad& v, VarMask m) {
     o.v.store(v.v);
-    for (std::size_t i = 0; i < 3; ++i) o.g[i].store(v.g[i]);
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (m & (1u << i)) o.g[i].store(v.g[i]);
+    }
   }
-  static IGrad add(const IGrad& a, const IGrad& b) { return {a.v + b.v, igrad::plus(a.g, b.g)}; }
-  static IGrad sub(const IGrad& a, const IGrad& b) { return {a.v - b.v, igrad::minus(a.g, b.g)}; }
-  static IGrad mul(const IGrad& a, const IGrad& b) {
-    return {a.v * b.v, igrad::plus(igrad::scale(a.g, b.v), igrad::scale(b.g, a.v))};
+  static IGrad add(const IGrad& a, const IGrad& b, VarMask m) {
+    return {a.v + b.v, igrad::plus(a.g, b.g, m)};
   }
-  static IGrad scale(const IGrad& a, double c) {
-    return {iaa::scale(a.v, c), igrad::scale(a.g, c)};
+  static IGrad sub(const IGrad& a, const IGrad& b, VarMask m) {
+    return {a.v - b.v, igrad::minus(a.g, b.g, m)};
   }
-  static IGrad div(const IGrad& a, const IGrad& b, Domain* d) {
+  static IGrad mul(const IGrad& a, const IGrad& b, VarMask m) {
+    return {a.v * b.v, igrad::each(m, [&](std::size_t i) { return a.g[i] * b.v + b.g[i] * a.v; })};
+  }
+  static IGrad scale(const IGrad& a, double c, VarMask m) {
+    return {iaa::scale(a.v, c), igrad::scale(a.g, c, m)};
+  }
+  static IGrad div(const IGrad& a, const IGrad& b, Domain* d, VarMask m) {
     const Interval v = divide(a.v, b.v, d);
     // (a/b)' = (a' - (a/b) b') / b
-    return {v, igrad::dquot(igrad::minus(a.g, igrad::scale(b.g, v)), b.v)};
+    return {v,
+            igrad::each(m, [&](std::size_t i) { return igrad::dquot(a.g[i] - b.g[i] * v, b.v); })};
   }
-  static IGrad neg(const IGrad& a) { return {-a.v, igrad::negate(a.g)}; }
-  static IGrad pow_int(const IGrad& a, int n) {
+  static IGrad neg(const IGrad& a, VarMask m) { return {-a.v, igrad::negate(a.g, m)}; }
+  static IGrad pow_int(const IGrad& a, int n, VarMask m) {
     if (n == 0) return constant(1.0);
     // (a^n)' = n a^(n-1) a'
-    return {iaa::pow_int(a.v, n), igrad::scale(a.g, iaa::scale(iaa::pow_int(a.v, n - 1), n))};
+    return {iaa::pow_int(a.v, n), igrad::scale(a.g, iaa::scale(iaa::pow_int(a.v, n - 1), n), m)};
   }
   /// Real power; out of line (eval_interval_grad.cpp): long, and rare in surfaces.
-  static IGrad pow(const IGrad& a, const IGrad& b, Domain*);
-  static IGrad square(const IGrad& a) {
-    return {iaa::square(a.v), igrad::scale(a.g, iaa::scale(a.v, 2.0))};
+  static IGrad pow(const IGrad& a, const IGrad& b, Domain*, VarMask m);
+  static IGrad square(const IGrad& a, VarMask m) {
+    return {iaa::square(a.v), igrad::scale(a.g, iaa::scale(a.v, 2.0), m)};
   }
-  static IGrad sqrt(const IGrad& a, Domain* d) {
+  static IGrad sqrt(const IGrad& a, Domain* d, VarMask m) {
     const Interval v = iaa::sqrt(a.v, d);
-    return {v, igrad::dquot(a.g, iaa::scale(v, 2.0))};
+    return {v, igrad::dquot(a.g, iaa::scale(v, 2.0), m)};
   }
-  static IGrad exp(const IGrad& a) {
+  static IGrad exp(const IGrad& a, VarMask m) {
     const Interval v = iaa::exp(a.v);
-    return {v, igrad::scale(a.g, v)};
+    return {v, igrad::scale(a.g, v, m)};
   }
-  static IGrad log(const IGrad& a, Domain* d) { return {iaa::log(a.v, d), igrad::dquot(a.g, a.v)}; }
+  static IGrad log(const IGrad& a, Domain* d, VarMask m) {
+    return {iaa::log(a.v, d), igrad::dquot(a.g, a.v, m)};
+  }
   // sin and cos need both functions of the same argument: one sincos.
-  static IGrad sin(const IGrad& a) {
+  static IGrad sin(const IGrad& a, VarMask m) {
     Interval s, c;
     iaa::sincos(a.v, &s, &c);
-    return {s, igrad::scale(a.g, c)};
+    return {s, igrad::scale(a.g, c, m)};
   }
-  static IGrad cos(const IGrad& a) {
+  static IGrad cos(const IGrad& a, VarMask m) {
     Interval s, c;
     iaa::sincos(a.v, &s, &c);
-    return {c, igrad::scale(a.g, -s)};
+    return {c, igrad::scale(a.g, -s, m)};
   }
-  static IGrad tan(const IGrad& a, Domain* d) {
+  static IGrad tan(const IGrad& a, Domain* d, VarMask m) {
     const Interval v = iaa::tan(a.v, d);
-    return {v, igrad::scale(a.g, Interval(1.0) + iaa::square(v))};
+    return {v, igrad::scale(a.g, Interval(1.0) + iaa::square(v), m)};
   }
-  static IGrad atan(const IGrad& a) {
-    return {iaa::atan(a.v), igrad::dquot(a.g, Interval(1.0) + iaa::square(a.v))};
+  static IGrad atan(const IGrad& a, VarMask m) {
+    return {iaa::atan(a.v), igrad::dquot(a.g, Interval(1.0) + iaa::square(a.v), m)};
   }
   // The point rule takes the slope +1 at 0, so only a strictly negative box is the mirrored side.
-  static IGrad abs(const IGrad& a) {
+  // (abs, min and max have their argument's mask or the union of both, so returning an argument
+  // whole is right: store keeps only the components of the output mask.)
+  static IGrad abs(const IGrad& a, VarMask m) {
     if (a.v.lo() >= 0.0) return a;
-    if (a.v.hi() < 0.0) return neg(a);
-    return {iaa::abs(a.v), igrad::hulls(a.g, igrad::negate(a.g))};
+    if (a.v.hi() < 0.0) return neg(a, m);
+    return {iaa::abs(a.v), igrad::each(m, [&](std::size_t i) { return hull(a.g[i], -a.g[i]); })};
   }
   // Ties follow the point rule (the first argument wins), so a decided box uses one side only.
-  static IGrad min(const IGrad& a, const IGrad& b, std::uint8_t*) {
+  static IGrad min(const IGrad& a, const IGrad& b, std::uint8_t*, VarMask m) {
     if (a.v.hi() <= b.v.lo()) return a;
     if (b.v.hi() < a.v.lo()) return b;
-    return {iaa::min(a.v, b.v), igrad::hulls(a.g, b.g)};
+    return {iaa::min(a.v, b.v), igrad::hulls(a.g, b.g, m)};
   }
-  static IGrad max(const IGrad& a, const IGrad& b, std::uint8_t*) {
+  static IGrad max(const IGrad& a, const IGrad& b, std::uint8_t*, VarMask m) {
     if (a.v.lo() >= b.v.hi()) return a;
     if (b.v.lo() > a.v.hi()) return b;
-    return {iaa::max(a.v, b.v), igrad::hulls(a.g, b.g)};
+    return {iaa::max(a.v, b.v), igrad::hulls(a.g, b.g, m)};
   }
 };
-}  // namespace detail
 
-/// Evaluates a tape and its gradient over boxes. One per thread; no allocation per call.
-class IntervalGradEval {
+/// The interval + gradient evaluator over a tape; `dense` computes every partial of every slot
+/// (the same rules with all masks kAllVars), a reference for tests.
+class BasicIntervalGradEval {
  public:
-  explicit IntervalGradEval(const Tape& tape) : loop_(tape) {}
-  /// The evaluator keeps a pointer to its tape, which must outlive it.
-  explicit IntervalGradEval(Tape&&) = delete;
+  BasicIntervalGradEval(const Tape& tape, bool dense) : loop_(tape, dense) {}
   /// Checked: evaluates under a RoundingScope, opening one when the caller has none (the check
   /// is an inline read of the rounding mode; callers in hot loops open one per tile).
   IGrad eval(const IBox& b) {
@@ -159,7 +184,18 @@ class IntervalGradEval {
     const Interval o(0.0), l(1.0);
     return loop_.run({b.x, {l, o, o}}, {b.y, {o, l, o}}, {b.z, {o, o, l}});
   }
-  detail::TapeLoop<detail::IntervalGradRules> loop_;
+  TapeLoop<IntervalGradRules> loop_;
+};
+}  // namespace detail
+
+/// Evaluates a tape and its gradient over boxes. One per thread; no allocation per call.
+/// Structurally zero partials (along a variable the expression does not use) are exactly [0,0]
+/// and cost nothing.
+class IntervalGradEval : public detail::BasicIntervalGradEval {
+ public:
+  explicit IntervalGradEval(const Tape& tape) : BasicIntervalGradEval(tape, /*dense=*/false) {}
+  /// The evaluator keeps a pointer to its tape, which must outlive it.
+  explicit IntervalGradEval(Tape&&) = delete;
 };
 
 }  // namespace iaa

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "core/interval.h"
@@ -14,23 +15,58 @@ namespace iaa::detail {
 
 /// Writes an operation's result to its slot, with the mode's own store when it has one
 /// (Rules::store: the interval modes write each interval with one 16-byte store, see
-/// Interval::store).
-template <class Rules, class Num>
-inline void put(Num& o, const Num& v) {
-  if constexpr (requires { Rules::store(o, v); }) {
-    Rules::store(o, v);
+/// Interval::store). A mode that uses variable masks (below) gets the slot's mask as well.
+template <class Rules, class Num, class... Mask>
+inline void put(Num& o, const Num& v, Mask... m) {
+  if constexpr (requires { Rules::store(o, v, m...); }) {
+    Rules::store(o, v, m...);
   } else {
     o = v;
   }
 }
+
+/// Bits of the variables a slot depends on by structure: x = 1, y = 2, z = 4.
+using VarMask = std::uint8_t;
+inline constexpr VarMask kAllVars = 7;
+
+/// Per slot, the variables its value depends on by structure: x, y, z their own bit, constants
+/// none, an instruction the union of its arguments'. A partial derivative along a variable
+/// outside the mask is exactly 0. Computed once per evaluator, linear in the tape.
+inline std::vector<VarMask> var_masks(const Tape& tape) {
+  std::vector<VarMask> m(static_cast<std::size_t>(tape.size()), 0);
+  m[0] = 1;
+  m[1] = 2;
+  m[2] = 4;
+  const auto ins = tape.instrs();
+  for (int i = tape.first_op(); i < tape.size(); ++i) {
+    const Instr& in = ins[static_cast<std::size_t>(i)];
+    // kScale's b is a constant slot (mask 0), kPowInt has no b.
+    VarMask v = m[static_cast<std::size_t>(in.a)];
+    if (in.b >= 0) v |= m[static_cast<std::size_t>(in.b)];
+    m[static_cast<std::size_t>(i)] = v;
+  }
+  return m;
+}
+
+/// A mode whose rules take the output slot's VarMask as a last argument (and compute only the
+/// components it names; the others stay as the slot was initialized).
+template <class Rules>
+concept UsesVarMasks = requires {
+  requires Rules::kUsesVarMasks;
+};
 
 template <class Rules>
 class TapeLoop {
  public:
   using Num = typename Rules::Num;
 
-  explicit TapeLoop(const Tape& tape)
+  /// `dense` (masked modes only): every slot's mask is kAllVars, so every component is computed,
+  /// as without masks (a reference for tests).
+  explicit TapeLoop(const Tape& tape, bool dense = false)
       : tape_(&tape), slots_(static_cast<std::size_t>(tape.size())) {
+    if constexpr (UsesVarMasks<Rules>) {
+      masks_ = dense ? std::vector<VarMask>(slots_.size(), kAllVars) : var_masks(tape);
+    }
     const auto consts = tape.constants();
     for (int i = 3; i < tape.first_op(); ++i) {
       slots_[static_cast<std::size_t>(i)] = Rules::constant(consts[static_cast<std::size_t>(i)]);
@@ -57,69 +93,106 @@ class TapeLoop {
       const Instr& in = ins[i];
       const Num& a = s[in.a];
       Num& o = s[i];
-      switch (in.op) {
-        case Op::kAdd:
-          put<Rules>(o, Rules::add(a, s[in.b]));
-          break;
-        case Op::kSub:
-          put<Rules>(o, Rules::sub(a, s[in.b]));
-          break;
-        case Op::kMul:
-          put<Rules>(o, Rules::mul(a, s[in.b]));
-          break;
-        case Op::kScale:
-          put<Rules>(o, Rules::scale(a, k[in.b]));
-          break;
-        case Op::kDiv:
-          put<Rules>(o, Rules::div(a, s[in.b], &dom_));
-          break;
-        case Op::kNeg:
-          put<Rules>(o, Rules::neg(a));
-          break;
-        case Op::kPowInt:
-          put<Rules>(o, Rules::pow_int(a, in.power));
-          break;
-        case Op::kPow:
-          put<Rules>(o, Rules::pow(a, s[in.b], &dom_));
-          break;
-        case Op::kSquare:
-          put<Rules>(o, Rules::square(a));
-          break;
-        case Op::kSqrt:
-          put<Rules>(o, Rules::sqrt(a, &dom_));
-          break;
-        case Op::kExp:
-          put<Rules>(o, Rules::exp(a));
-          break;
-        case Op::kLog:
-          put<Rules>(o, Rules::log(a, &dom_));
-          break;
-        case Op::kSin:
-          put<Rules>(o, Rules::sin(a));
-          break;
-        case Op::kCos:
-          put<Rules>(o, Rules::cos(a));
-          break;
-        case Op::kTan:
-          put<Rules>(o, Rules::tan(a, &dom_));
-          break;
-        case Op::kAtan:
-          put<Rules>(o, Rules::atan(a));
-          break;
-        case Op::kAbs:
-          put<Rules>(o, Rules::abs(a));
-          break;
-        case Op::kMin:
-          put<Rules>(o, Rules::min(a, s[in.b], choice(i)));
-          break;
-        case Op::kMax:
-          put<Rules>(o, Rules::max(a, s[in.b], choice(i)));
-          break;
-        case Op::kVarX:
-        case Op::kVarY:
-        case Op::kVarZ:
-        case Op::kConst:
-          break;  // never after first_op
+      // `m` is empty, or the slot's mask for a mode that uses masks. Forced inline: with the
+      // eight mask copies below GCC otherwise keeps the step (and the rules in it) out of line,
+      // which made the render slower although it ran fewer instructions.
+      const auto step = [&](auto... m) __attribute__((always_inline)) {
+        switch (in.op) {
+          case Op::kAdd:
+            put<Rules>(o, Rules::add(a, s[in.b], m...), m...);
+            break;
+          case Op::kSub:
+            put<Rules>(o, Rules::sub(a, s[in.b], m...), m...);
+            break;
+          case Op::kMul:
+            put<Rules>(o, Rules::mul(a, s[in.b], m...), m...);
+            break;
+          case Op::kScale:
+            put<Rules>(o, Rules::scale(a, k[in.b], m...), m...);
+            break;
+          case Op::kDiv:
+            put<Rules>(o, Rules::div(a, s[in.b], &dom_, m...), m...);
+            break;
+          case Op::kNeg:
+            put<Rules>(o, Rules::neg(a, m...), m...);
+            break;
+          case Op::kPowInt:
+            put<Rules>(o, Rules::pow_int(a, in.power, m...), m...);
+            break;
+          case Op::kPow:
+            put<Rules>(o, Rules::pow(a, s[in.b], &dom_, m...), m...);
+            break;
+          case Op::kSquare:
+            put<Rules>(o, Rules::square(a, m...), m...);
+            break;
+          case Op::kSqrt:
+            put<Rules>(o, Rules::sqrt(a, &dom_, m...), m...);
+            break;
+          case Op::kExp:
+            put<Rules>(o, Rules::exp(a, m...), m...);
+            break;
+          case Op::kLog:
+            put<Rules>(o, Rules::log(a, &dom_, m...), m...);
+            break;
+          case Op::kSin:
+            put<Rules>(o, Rules::sin(a, m...), m...);
+            break;
+          case Op::kCos:
+            put<Rules>(o, Rules::cos(a, m...), m...);
+            break;
+          case Op::kTan:
+            put<Rules>(o, Rules::tan(a, &dom_, m...), m...);
+            break;
+          case Op::kAtan:
+            put<Rules>(o, Rules::atan(a, m...), m...);
+            break;
+          case Op::kAbs:
+            put<Rules>(o, Rules::abs(a, m...), m...);
+            break;
+          case Op::kMin:
+            put<Rules>(o, Rules::min(a, s[in.b], choice(i), m...), m...);
+            break;
+          case Op::kMax:
+            put<Rules>(o, Rules::max(a, s[in.b], choice(i), m...), m...);
+            break;
+          case Op::kVarX:
+          case Op::kVarY:
+          case Op::kVarZ:
+          case Op::kConst:
+            break;  // never after first_op
+        }
+      };
+      if constexpr (UsesVarMasks<Rules>) {
+        // One copy of the step per mask value, the mask a compile-time constant in each, so the
+        // rules' per-component tests fold away.
+        switch (masks_[static_cast<std::size_t>(i)]) {
+          case 0:
+            step(std::integral_constant<VarMask, 0>{});
+            break;
+          case 1:
+            step(std::integral_constant<VarMask, 1>{});
+            break;
+          case 2:
+            step(std::integral_constant<VarMask, 2>{});
+            break;
+          case 3:
+            step(std::integral_constant<VarMask, 3>{});
+            break;
+          case 4:
+            step(std::integral_constant<VarMask, 4>{});
+            break;
+          case 5:
+            step(std::integral_constant<VarMask, 5>{});
+            break;
+          case 6:
+            step(std::integral_constant<VarMask, 6>{});
+            break;
+          default:
+            step(std::integral_constant<VarMask, kAllVars>{});
+            break;
+        }
+      } else {
+        step();
       }
     }
     return s[tape_->root()];
@@ -133,6 +206,7 @@ class TapeLoop {
   const Tape* tape_;
   std::vector<Num> slots_;
   std::vector<std::uint8_t> choices_;
+  std::vector<VarMask> masks_;  ///< per slot, for modes that use masks
   Domain dom_ = Domain::kFull;
 };
 
