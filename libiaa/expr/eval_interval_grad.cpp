@@ -7,7 +7,10 @@ IGrad IntervalGradRules::pow(const IGrad& a, const IGrad& b, Domain* d, VarMask 
   const Interval v = pow_real(a.v, b.v, d);
   Domain ignored = Domain::kFull;
   // (a^b)' = b a^(b-1) a' + a^b log(a) b'
-  igrad::G g = igrad::scale(a.g, b.v * pow_real(a.v, b.v - Interval(1.0), &ignored), m);
+  // a^(b-1) has a pole where a reaches 0 and b < 1 (empty there): the factor is then unbounded.
+  Interval power = pow_real(a.v, b.v - Interval(1.0), &ignored);
+  if (power.is_empty()) power = Interval::whole();
+  igrad::G g = igrad::scale(a.g, b.v * power, m);
   // The log term only where the exponent varies: log(a) may be empty (a = 0) while a^b is not.
   // At a = 0 (where a^b = 0 for b > 0) log(a) is empty or unbounded while a^b log(a) -> 0: no
   // finite bound is derived there, the term is left unbounded (still exactly 0 where v = 0).

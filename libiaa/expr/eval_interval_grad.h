@@ -47,8 +47,13 @@ inline G minus(const G& a, const G& b, VarMask m) {
 inline G negate(const G& a, VarMask m) {
   return each(m, [&](std::size_t i) { return -a[i]; });
 }
+// Hull of the two sides' partials at a kink. An empty partial of one side is no knowledge of it
+// (a derivative is never empty where the value exists): the hull is then unbounded, not the
+// other side alone, so the branch is never dropped.
 inline G hulls(const G& a, const G& b, VarMask m) {
-  return each(m, [&](std::size_t i) { return hull(a[i], b[i]); });
+  return each(m, [&](std::size_t i) {
+    return a[i].is_empty() || b[i].is_empty() ? Interval::whole() : hull(a[i], b[i]);
+  });
 }
 // Quotient for derivatives: where the divisor may vanish the derivative is unbounded (or, for a
 // numerator that is exactly 0, 0), never `empty`.

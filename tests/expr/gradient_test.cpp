@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "expr/eval_interval.h"
+#include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
 #include "expr/eval_point_grad.h"
 #include "random_expr.h"
@@ -46,6 +47,21 @@ TEST(Gradient, MatchesFiniteDifferences) {
     }
   }
   EXPECT_GT(checked, 10000);
+}
+
+// At a min that the box does not decide, the gradient is the hull of both sides. A side whose
+// derivative rule meets a pole (a^(b-1) at a = 0 with b < 1) must not be dropped from that hull:
+// in min(2x, (0x)^y) over x in [0, 1e-12], y in [0.9, 1], the second side (exactly 0 for x > 0)
+// is taken wherever x > 0, so d/dx takes the value 0 there, and 2 at x = 0.
+TEST(Gradient, AKinkKeepsASideWhoseDerivativeHasAPole) {
+  RoundingScope scope;
+  for (const char* expr : {"min(x + x, pow(0, y))", "min(x + x, pow(x * 0, y))"}) {
+    const Tape t = Tape::parse(expr);
+    IntervalGradEval ig(t);
+    const IGrad g = ig.eval(IBox(Interval(0, 1e-12), Interval(0.9, 1), Interval(0, 1)));
+    EXPECT_TRUE(g.g[0].contains(0.0)) << expr << ": " << g.g[0].lo() << ", " << g.g[0].hi();
+    EXPECT_TRUE(g.g[0].contains(2.0)) << expr;
+  }
 }
 
 TEST(Gradient, KnownValues) {
