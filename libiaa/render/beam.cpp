@@ -88,6 +88,18 @@ double cone_half_angle(const IBox& b) {
   return std::acos(std::min(1.0, worst));
 }
 
+/// Records a search's outcome in its trace (when tracing) and returns it.
+const BeamSearch& traced(const BeamSearch& out, const char* reason, BeamTrace* trace) {
+  if (trace) {
+    trace->result = out.result;
+    trace->t_near = out.t_near;
+    trace->t_far = out.t_far;
+    trace->hit_box = out.hit_box;
+    trace->full_reason = reason;
+  }
+  return out;
+}
+
 }  // namespace
 
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
@@ -182,29 +194,14 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     out.sign = parent->sign;
     out.t_far = tf;
     out.hit_box = segment_box(eye, out.dirs, Interval(a, tf));
-    if (trace) {
-      trace->result = out.result;
-      trace->t_near = out.t_near;
-      trace->t_far = out.t_far;
-      trace->hit_box = out.hit_box;
-      trace->full_reason = "inside a Full parent: its sign change proof covers this beam";
-    }
-    return out;
+    return traced(out, "inside a Full parent: its sign change proof covers this beam", trace);
   }
 
   // Full coverage: opposite proved signs on the slices at t_near and at some t_far >= t_near,
   // with the box of [t_near, t_far] inside the bounds and f continuous on it.
   const char* reason = "";
-  if (!prove_full) {
-    if (trace) {
-      trace->result = out.result;
-      trace->t_near = out.t_near;
-      trace->t_far = out.t_far;
-      trace->hit_box = out.hit_box;
-      trace->full_reason = "full coverage not tried (the caller does not need it)";
-    }
-    return out;
-  }
+  if (!prove_full)
+    return traced(out, "full coverage not tried (the caller does not need it)", trace);
   // The near slice may be at t_near or a little before it: no ray meets the surface in the
   // excluded pieces in front of t_near, so a sign proved at t_s <= t_near still brackets the first
   // hit of every ray in [t_near, t_far]. Close to the surface intervals cannot tell the sign.
@@ -268,14 +265,7 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     }
   }
   (void)kept_partial;
-  if (trace) {
-    trace->result = out.result;
-    trace->t_near = out.t_near;
-    trace->t_far = out.t_far;
-    trace->hit_box = out.hit_box;
-    trace->full_reason = reason;
-  }
-  return out;
+  return traced(out, reason, trace);
 }
 
 BeamSearch inherit_full(const RenderContext& ctx, const PixelRect& rect, const BeamSearch& parent,
@@ -284,16 +274,9 @@ BeamSearch inherit_full(const RenderContext& ctx, const PixelRect& rect, const B
   BeamSearch out = parent;
   out.dirs = ctx.setup.frame.dir_box(rect);
   out.hit_box = segment_box(ctx.setup.frame.eye, out.dirs, Interval(out.t_near, out.t_far));
-  if (trace) {
-    trace->searched = Interval::empty();  // nothing was searched
-    trace->result = out.result;
-    trace->t_near = out.t_near;
-    trace->t_far = out.t_far;
-    trace->hit_box = out.hit_box;
-    trace->full_reason =
-        "inside a Full parent at the last level: its proof covers this beam, no search";
-  }
-  return out;
+  if (trace) trace->searched = Interval::empty();  // nothing was searched
+  return traced(
+      out, "inside a Full parent at the last level: its proof covers this beam, no search", trace);
 }
 
 bool tighten_far(RenderContext& ctx, BeamSearch* s, double step) {

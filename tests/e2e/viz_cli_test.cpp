@@ -5,9 +5,6 @@
 // DISPLAY that cannot be opened, is an error, while a PNG is then rendered on a private Xvfb.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-
-#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -16,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_run.h"
 #include "common/png.h"
 
 namespace {
@@ -25,39 +23,9 @@ namespace fs = std::filesystem;
 const std::string kBin = IAA_BIN_DIR;
 const std::string kScene = std::string(IAA_SOURCE_DIR) + "/data/scenes/teardrop.toml";
 
-struct Outcome {
-  int status = -1;
-  std::string out, err;
-};
-
-/// Runs a shell command; captures stdout and stderr.
-Outcome run(const std::string& cmd) {
-  static int n = 0;
-  const fs::path err =
-      fs::temp_directory_path() /
-      ("iaa_viz_cli_err_" + std::to_string(::getpid()) + "_" + std::to_string(n++));
-  Outcome r;
-  FILE* p = ::popen((cmd + " 2>'" + err.string() + "'").c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  std::size_t k = 0;
-  while ((k = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), k);
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  std::ifstream e(err);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  fs::remove(err);
-  return r;
-}
-
-/// A path in single quotes for the shell (built with append: GCC 12 warns falsely on "'" + s).
-std::string quoted(const std::string& s) {
-  std::string q(1, '\'');
-  q.append(s).append(1, '\'');
-  return q;
-}
+using iaa::e2e::Outcome;
+using iaa::e2e::quoted;
+using iaa::e2e::run;
 
 bool have(const char* program) {
   return std::system(("command -v " + std::string(program) + " >/dev/null 2>&1").c_str()) == 0;
