@@ -42,8 +42,8 @@ class TapeFunction : public vtkImplicitFunction {
   static TapeFunction* New();
   // clang-format off
   vtkTypeMacro(TapeFunction, vtkImplicitFunction)
-  // clang-format on
-  const Tape* tape = nullptr;
+      // clang-format on
+      const Tape* tape = nullptr;
   std::uint64_t run = 0;  ///< unique per mesh_vtk() call: a tape's address may be reused
 
   using vtkImplicitFunction::EvaluateFunction;
