@@ -201,7 +201,9 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   // with the box of [t_near, t_far] inside the bounds and f continuous on it.
   const char* reason = "";
   if (!prove_full)
-    return traced(out, "full coverage not tried (the caller does not need it)", trace);
+    return traced(out,
+                  "full coverage not tried: another part of the pixel is already certified covered",
+                  trace);
   // The near slice may be at t_near or a little before it: no ray meets the surface in the
   // excluded pieces in front of t_near, so a sign proved at t_s <= t_near still brackets the first
   // hit of every ray in [t_near, t_far]. Close to the surface intervals cannot tell the sign.
