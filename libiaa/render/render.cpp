@@ -39,6 +39,9 @@ constexpr double kPartialShadeReach = 8.0;
 constexpr double kShadeTolerance = 1.0 / 64;
 /// Share of a Partial part's area shown as surface when its central ray finds no surface at all.
 constexpr double kPartialMissWeight = 0.25;
+/// Point-value steps over [t_near, t_far] in which the first crossing of a Full part's central
+/// ray is looked for before regula falsi narrows it (full_root).
+constexpr int kRootMarch = 8;
 /// Depth pieces of a Full beam's hit segment over which the estimator is taken (beam_estimator).
 constexpr int kEstimatorPieces = 4;
 
@@ -301,11 +304,12 @@ class Renderer {
     return c;
   }
 
-  /// The first hit of the central ray `d` of a Full part, to within `tol`, by regula falsi
-  /// (Illinois) on point values. The proof of the part brackets it: no ray of the part meets the
-  /// surface in [t_s, t_near), f has the sign s.sign on the slice at t_s and the opposite one on
-  /// the slice at t_far, and is continuous in between; so the central ray has a root in every
-  /// bracket kept, and none before t_near. Only the shading point depends on it.
+  /// The first hit of the central ray `d` of a Full part, to within `tol`: a march of point values
+  /// to the first step with a sign change, then regula falsi (Illinois). The proof of the part
+  /// brackets it: no ray of the part meets the surface in [t_s, t_near), f has the sign s.sign on
+  /// the slice at t_s and the opposite one on the slice at t_far, and is continuous in between;
+  /// so the central ray has a root in every bracket kept, and none before t_near. Only the shading
+  /// point depends on it.
   double full_root(const Vec3& d, const BeamSearch& s, double tol) {
     const Vec3& eye = su_.frame.eye;
     auto g = [&](double t) { return ctx_.pe.eval(eye + t * d) * s.sign; };  // > 0 on the near side
@@ -317,6 +321,25 @@ class Renderer {
       ga = g(a);
     }
     if (!(ga > 0) || !(gb < 0)) return 0.5 * (s.t_near + s.t_far);  // no usable point signs
+    // The first crossing, not any: march in kRootMarch steps from the front to the first step
+    // whose far end has the far sign (a feature thinner than a step can still hide a crossing:
+    // shading only).
+    const double step = (b - a) / kRootMarch;
+    for (int k = 1; k < kRootMarch; ++k) {
+      const double t = a + k * step;
+      if (!(t > a && t < b)) break;
+      const double gt = g(t);
+      if (gt == 0) return t;
+      if (gt < 0) {
+        b = t;
+        gb = gt;
+        break;
+      }
+      if (gt > 0) {
+        a = t;
+        ga = gt;
+      }
+    }
     int stale = 0;  // which end kept its value last time: +1 a, -1 b
     double width = b - a;
     for (int it = 0; it < 64 && b - a > tol; ++it) {
