@@ -23,10 +23,8 @@ namespace {
 /// Largest image edge and pixel count a scene may ask for.
 constexpr int kMaxEdge = 16384;
 constexpr long long kMaxPixels = 64LL * 1024 * 1024;
-/// Limits of the vertical field of view in degrees (docs/scene-format.md): above 0, so that the
-/// image plane has a size, and below 180.
-constexpr double kMinFov = 1e-3;
-constexpr double kMaxFov = 179.0;
+constexpr double kMinFov = Camera::kMinFovDeg;
+constexpr double kMaxFov = Camera::kMaxFovDeg;
 
 /// Reads one table, remembering which keys were used so that the rest can be reported.
 class TableReader {

@@ -17,6 +17,10 @@ namespace iaa {
 
 /// Pinhole camera, right-handed; vertical field of view in degrees.
 struct Camera {
+  /// Limits of the vertical field of view in degrees (docs/scene-format.md): above 0, so that the
+  /// image plane has a size, and below 180.
+  static constexpr double kMinFovDeg = 1e-3;
+  static constexpr double kMaxFovDeg = 179.0;
   Vec3 eye{0, 0, 3};
   Vec3 look_at{0, 0, 0};
   Vec3 up{0, 1, 0};

@@ -37,7 +37,8 @@ class MeshRaycaster {
 /// What the mesh shows in each pixel of a view.
 struct MeshView {
   int width = 0, height = 0;
-  /// Fraction of the pixel's rays_per_side^2 regular rays that hit the mesh (for pictures).
+  /// Fraction of the pixel's rays_per_side^2 regular rays that hit the mesh (the report's
+  /// covered-area figure).
   std::vector<float> coverage;
   /// 1 when some ray through the pixel's area (its whole beam) meets a triangle: exact, so a
   /// triangle thinner than the gap between sample rays is still seen.

@@ -116,8 +116,10 @@ ViewCamera camera_of(const Scene& s) {
 
 void check_view(const ViewOptions& o) {
   parse_size(o.size);
-  if (o.fov != 0 && !(o.fov > 0 && o.fov < 180)) {
-    throw SettingError("--fov must lie in (0, 180) degrees, got " + std::to_string(o.fov));
+  if (o.fov != 0 && !(o.fov >= Camera::kMinFovDeg && o.fov <= Camera::kMaxFovDeg)) {
+    // The same limits as a scene's camera.fov.
+    throw SettingError("--fov must lie in [0.001, 179] degrees (as a scene's camera.fov), got " +
+                       std::to_string(o.fov));
   }
   if (o.camera != "scene" && o.camera != "auto" && o.camera != "default") parse_camera(o.camera);
   if (!o.output.empty()) {
