@@ -1,9 +1,15 @@
 #include "core/interval.h"
 
 #include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cfloat>
+#include <cstdint>
 #include <numbers>
+
+#if defined(__x86_64__) && defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
 
 namespace iaa {
 
@@ -13,6 +19,9 @@ using detail::Rounding;
 
 constexpr double kInf = Interval::kInf;
 constexpr double kPi = std::numbers::pi;
+// constexpr so that it is folded at compile time: under -frounding-math GCC otherwise converts
+// the long double literal behind denorm_min() to double at run time, on every use.
+constexpr double kDenormMin = std::numeric_limits<double>::denorm_min();
 
 // Decides conservatively whether some point c_k = offset + k * period lies in [lo, hi]. Returns
 // the smallest such k through *k_first and whether the range may hold more than one. The slack
@@ -23,33 +32,78 @@ struct CriticalPoints {
   double k_first;  // smallest candidate k (integer-valued)
   double k_last;   // largest candidate k
 };
-CriticalPoints critical_points(double lo, double hi, double offset, double period) {
+// `inv_period` is 1/period rounded: its relative error (1 ulp) adds at most 1e6/pi * 2^-52 ~ 1e-10
+// periods for |x| <= kTrigArgLimit, well inside the slack, and spares a division.
+CriticalPoints critical_points(double lo, double hi, double offset, double inv_period) {
   const double slack = 1e-9;
-  const double a = std::ceil((lo - offset) / period - slack);
-  const double b = std::floor((hi - offset) / period + slack);
+  const double a = std::ceil((lo - offset) * inv_period - slack);
+  const double b = std::floor((hi - offset) * inv_period + slack);
   return {a <= b, a, b};
 }
 // Beyond this magnitude the critical-point slack above is not proved; sin/cos/tan give their
 // whole range.
 constexpr double kTrigArgLimit = 1e6;
+constexpr double kInvPi = std::numbers::inv_pi;
 
+// k is integer-valued with |k| <= kTrigArgLimit / pi + 1, exact in an int64.
 bool is_even(double k) {
-  return std::fmod(std::fabs(k), 2.0) == 0.0;
+  return (static_cast<std::int64_t>(k) & 1) == 0;
 }
+
+// The next double below (above) a finite v, without the library call of std::nextafter: the
+// bit pattern of a double is monotone in its magnitude. -DBL_MAX steps to -inf (and DBL_MAX to
+// +inf) as nextafter does; zeros of either sign step to the smallest subnormal.
+double next_down(double v) {
+  if (v == 0.0) return -kDenormMin;
+  const auto bits = std::bit_cast<std::uint64_t>(v);
+  return std::bit_cast<double>(v > 0.0 ? bits - 1 : bits + 1);
+}
+double next_up(double v) {
+  if (v == 0.0) return kDenormMin;
+  const auto bits = std::bit_cast<std::uint64_t>(v);
+  return std::bit_cast<double>(v > 0.0 ? bits + 1 : bits - 1);
+}
+
+// glibc's sin, cos, exp and log run in round-to-nearest: called while the thread rounds upward,
+// each one writes the SSE control register twice (to nearest and back), which about doubles its
+// cost. Around a batch of such calls this switches once. Their results are widened by
+// kTranscUlps ulps afterwards, which holds in every rounding mode, so the mode during the call
+// does not matter for soundness. Elsewhere (other targets) it does nothing.
+class LibmNearest {
+ public:
+#if defined(__x86_64__) && defined(__SSE2__)
+  LibmNearest() : saved_(_mm_getcsr()) {
+    _mm_setcsr(saved_ & ~kRoundingBits);
+  }
+  ~LibmNearest() {
+    _mm_setcsr(saved_);
+  }
+
+ private:
+  static constexpr unsigned kRoundingBits = 0x6000u;  // MXCSR.RC
+  unsigned saved_;
+#else
+  LibmNearest() = default;
+#endif
+  LibmNearest(const LibmNearest&) = delete;
+  LibmNearest& operator=(const LibmNearest&) = delete;
+};
 
 }  // namespace
 
 double widen_down(double v, int n) {
   if (!std::isfinite(v)) return v;
   // n * 2^-52 * |v| is between n/2 and n ulps of v; 2^-1074 per ulp covers subnormals.
-  const double d = std::fabs(v) * (n * DBL_EPSILON) + n * std::numeric_limits<double>::denorm_min();
-  return std::nextafter(v - d, -kInf);
+  const double d = std::fabs(v) * (n * DBL_EPSILON) + n * kDenormMin;
+  const double r = v - d;
+  return std::isfinite(r) ? next_down(r) : r;
 }
 
 double widen_up(double v, int n) {
   if (!std::isfinite(v)) return v;
-  const double d = std::fabs(v) * (n * DBL_EPSILON) + n * std::numeric_limits<double>::denorm_min();
-  return std::nextafter(v + d, kInf);
+  const double d = std::fabs(v) * (n * DBL_EPSILON) + n * kDenormMin;
+  const double r = v + d;
+  return std::isfinite(r) ? next_up(r) : r;
 }
 
 double Interval::mid() const {
@@ -127,15 +181,21 @@ Interval sqrt(const Interval& x, Domain* dom) {
   // IEEE sqrt is correctly rounded in the current (upward) mode: std::sqrt(hi) >= the true root.
   // One step down from the upward-rounded root is below the true root of lo.
   double r_lo = std::sqrt(lo);
-  if (r_lo > 0.0) r_lo = std::nextafter(r_lo, 0.0);
+  if (r_lo > 0.0) r_lo = next_down(r_lo);
   return Interval(r_lo, std::sqrt(x.hi()));
 }
 
 Interval exp(const Interval& x) {
   if (x.is_empty()) return x;
   // exp > 0 and finite for every real argument, so clamp the lower bound into (0, DBL_MAX].
-  const double lo = std::clamp(widen_down(std::exp(x.lo())), 0.0, DBL_MAX);
-  const double hi = widen_up(std::exp(x.hi()));
+  double e_lo, e_hi;
+  {
+    const LibmNearest nearest;
+    e_lo = std::exp(x.lo());
+    e_hi = std::exp(x.hi());
+  }
+  const double lo = std::clamp(widen_down(e_lo), 0.0, DBL_MAX);
+  const double hi = widen_up(e_hi);
   return Interval(lo, hi);
 }
 
@@ -145,14 +205,15 @@ Interval log(const Interval& x, Domain* dom) {
     *dom = Domain::kPartial;
     return Interval::empty();
   }
-  double lo = -kInf;
-  if (x.lo() <= 0.0) {
-    *dom = Domain::kPartial;
-  } else {
-    lo = widen_down(std::log(x.lo()));
+  double l_lo = -kInf, l_hi;
+  {
+    const LibmNearest nearest;
+    if (x.lo() > 0.0) l_lo = std::log(x.lo());
+    l_hi = std::log(x.hi());
   }
+  if (x.lo() <= 0.0) *dom = Domain::kPartial;
   // log of a finite double is at most ~709.8; log(inf) = inf stays unbounded.
-  return Interval(lo, widen_up(std::log(x.hi())));
+  return Interval(widen_down(l_lo), widen_up(l_hi));
 }
 
 namespace {
@@ -167,7 +228,7 @@ Interval periodic_unit(const Interval& x, double a, double b, double max_offset)
   double lo = widen_down(std::min(a, b));
   double hi = widen_up(std::max(a, b));
   // Extrema lie at max_offset + k pi: even k is a maximum, odd k a minimum.
-  const CriticalPoints c = critical_points(x.lo(), x.hi(), max_offset, kPi);
+  const CriticalPoints c = critical_points(x.lo(), x.hi(), max_offset, kInvPi);
   if (c.any) {
     if (c.k_last > c.k_first || is_even(c.k_first)) hi = 1.0;
     if (c.k_last > c.k_first || !is_even(c.k_first)) lo = -1.0;
@@ -189,12 +250,24 @@ void sincos_d(double v, double* s, double* c) {
 Interval sin(const Interval& x) {
   if (x.is_empty()) return x;
   if (trig_takes_whole_range(x)) return Interval(-1.0, 1.0);
-  return periodic_unit(x, std::sin(x.lo()), std::sin(x.hi()), kPi / 2.0);
+  double a, b;
+  {
+    const LibmNearest nearest;
+    a = std::sin(x.lo());
+    b = std::sin(x.hi());
+  }
+  return periodic_unit(x, a, b, kPi / 2.0);
 }
 Interval cos(const Interval& x) {
   if (x.is_empty()) return x;
   if (trig_takes_whole_range(x)) return Interval(-1.0, 1.0);
-  return periodic_unit(x, std::cos(x.lo()), std::cos(x.hi()), 0.0);
+  double a, b;
+  {
+    const LibmNearest nearest;
+    a = std::cos(x.lo());
+    b = std::cos(x.hi());
+  }
+  return periodic_unit(x, a, b, 0.0);
 }
 void sincos(const Interval& x, Interval* s, Interval* c) {
   if (x.is_empty()) {
@@ -206,8 +279,11 @@ void sincos(const Interval& x, Interval* s, Interval* c) {
     return;
   }
   double sl, cl, sh, ch;
-  sincos_d(x.lo(), &sl, &cl);
-  sincos_d(x.hi(), &sh, &ch);
+  {
+    const LibmNearest nearest;
+    sincos_d(x.lo(), &sl, &cl);
+    sincos_d(x.hi(), &sh, &ch);
+  }
   *s = periodic_unit(x, sl, sh, kPi / 2.0);
   *c = periodic_unit(x, cl, ch, 0.0);
 }
@@ -219,7 +295,7 @@ Interval tan(const Interval& x, Domain* dom) {
     return Interval::whole();
   }
   // Poles at pi/2 + k pi; between two poles tan increases.
-  if (critical_points(x.lo(), x.hi(), kPi / 2.0, kPi).any) {
+  if (critical_points(x.lo(), x.hi(), kPi / 2.0, kInvPi).any) {
     *dom = Domain::kPartial;
     return Interval::whole();
   }
@@ -270,16 +346,19 @@ Interval pow_real(const Interval& x, const Interval& y, Domain* dom) {
   const double xs[2] = {x0, x.hi() == 0.0 ? 0.0 : x.hi()};
   const double ys[2] = {y.lo(), y.hi()};
   double lo = kInf, hi = -kInf;
-  for (double xv : xs) {
-    for (double yv : ys) {
-      if (!std::isfinite(yv)) {  // unbounded exponent: anything from 0 to inf
-        lo = std::min(lo, 0.0);
-        hi = kInf;
-        continue;
+  {
+    const LibmNearest nearest;
+    for (double xv : xs) {
+      for (double yv : ys) {
+        if (!std::isfinite(yv)) {  // unbounded exponent: anything from 0 to inf
+          lo = std::min(lo, 0.0);
+          hi = kInf;
+          continue;
+        }
+        const double v = std::pow(xv, yv);
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
       }
-      const double v = std::pow(xv, yv);
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
     }
   }
   return Interval(std::max(0.0, widen_down(lo)), widen_up(hi));

@@ -182,6 +182,39 @@ TEST_F(IntervalTest, WideningIsOutward) {
   EXPECT_LT(widen_down(0.0), 0.0);
   EXPECT_EQ(widen_up(kInf), kInf);
   EXPECT_LT(widen_down(-1e-310), -1e-310);  // subnormal
+  // The last step is one ulp further out, as std::nextafter takes it: zeros of either sign step
+  // past the smallest subnormal, the largest finite doubles step to infinity.
+  EXPECT_LT(widen_down(-0.0), 0.0);
+  EXPECT_GT(widen_up(-0.0), 0.0);
+  EXPECT_GT(widen_up(-1e-310), -1e-310);
+  EXPECT_EQ(widen_down(-DBL_MAX), -kInf);
+  EXPECT_EQ(widen_up(DBL_MAX), kInf);
+  EXPECT_EQ(widen_down(-kInf), -kInf);
+  for (double v : {1.0, -1.0, 3e-300, -7.5e200, 4.9e-324}) {
+    EXPECT_LT(widen_down(v, 1), std::nextafter(v, -kInf)) << v;
+    EXPECT_GT(widen_up(v, 1), std::nextafter(v, kInf)) << v;
+    EXPECT_EQ(widen_down(v, 0), std::nextafter(v, -kInf)) << v;
+    EXPECT_EQ(widen_up(v, 0), std::nextafter(v, kInf)) << v;
+  }
+}
+
+// The transcendental functions call libm in round-to-nearest (switched around the calls) and
+// must hand the thread back rounding upward.
+TEST_F(IntervalTest, TranscendentalsLeaveTheModeUpward) {
+  Interval s, c;
+  (void)sin(Interval(0.5, 1.0));
+  EXPECT_TRUE(rounding_is_upward());
+  (void)cos(Interval(0.5, 1.0));
+  EXPECT_TRUE(rounding_is_upward());
+  sincos(Interval(0.5, 1.0), &s, &c);
+  EXPECT_TRUE(rounding_is_upward());
+  (void)exp(Interval(0.5, 1.0));
+  EXPECT_TRUE(rounding_is_upward());
+  (void)log(Interval(0.5, 1.0), &dom_);
+  EXPECT_TRUE(rounding_is_upward());
+  (void)pow_real(Interval(0.5, 1.0), Interval(0.3, 2.5), &dom_);
+  EXPECT_TRUE(rounding_is_upward());
+  EXPECT_EQ(dom_, Domain::kFull);
 }
 
 TEST_F(IntervalTest, MidIsInside) {
