@@ -2,6 +2,8 @@
 // that the box holds no point of the surface.
 #pragma once
 
+#include <utility>
+
 #include "core/vec.h"
 #include "expr/eval_loop.h"
 
@@ -27,6 +29,11 @@ struct IntervalRules {
   static Interval log(const Interval& a, Domain* d) { return iaa::log(a, d); }
   static Interval sin(const Interval& a) { return iaa::sin(a); }
   static Interval cos(const Interval& a) { return iaa::cos(a); }
+  static std::pair<Interval, Interval> sincos(const Interval& a) {
+    std::pair<Interval, Interval> r;
+    iaa::sincos(a, &r.first, &r.second);
+    return r;
+  }
   static Interval tan(const Interval& a, Domain* d) { return iaa::tan(a, d); }
   static Interval atan(const Interval& a) { return iaa::atan(a); }
   static Interval abs(const Interval& a) { return iaa::abs(a); }

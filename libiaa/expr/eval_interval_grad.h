@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <utility>
 
 #include "core/vec.h"
 #include "expr/eval_loop.h"
@@ -139,6 +140,11 @@ struct IntervalGradRules {
     Interval s, c;
     iaa::sincos(a.v, &s, &c);
     return {c, igrad::scale(a.g, -s, m)};
+  }
+  static std::pair<IGrad, IGrad> sincos(const IGrad& a, VarMask m) {
+    Interval s, c;
+    iaa::sincos(a.v, &s, &c);
+    return {IGrad{s, igrad::scale(a.g, c, m)}, IGrad{c, igrad::scale(a.g, -s, m)}};
   }
   static IGrad tan(const IGrad& a, Domain* d, VarMask m) {
     const Interval v = iaa::tan(a.v, d);

@@ -140,6 +140,15 @@ class TapeLoop {
           case Op::kCos:
             put<Rules>(o, Rules::cos(a, m...), m...);
             break;
+          case Op::kSinCos: {
+            // Slot i + 1 is the paired cos of the same argument, so it has this slot's mask.
+            const auto [sv, cv] = Rules::sincos(a, m...);
+            put<Rules>(o, sv, m...);
+            put<Rules>(s[i + 1], cv, m...);
+            break;
+          }
+          case Op::kPairedCos:
+            break;  // written by the sincos before it
           case Op::kTan:
             put<Rules>(o, Rules::tan(a, &dom_, m...), m...);
             break;

@@ -29,6 +29,9 @@ double PointRules::sin(double a) {
 double PointRules::cos(double a) {
   return std::cos(a);
 }
+std::pair<double, double> PointRules::sincos(double a) {
+  return {std::sin(a), std::cos(a)};
+}
 double PointRules::tan(double a, Domain*) {
   return std::tan(a);
 }
@@ -73,6 +76,10 @@ PGrad PointGradRules::sin(const PGrad& a) {
 }
 PGrad PointGradRules::cos(const PGrad& a) {
   return {std::cos(a.v), a.g * -std::sin(a.v)};
+}
+std::pair<PGrad, PGrad> PointGradRules::sincos(const PGrad& a) {
+  const double s = std::sin(a.v), c = std::cos(a.v);
+  return {PGrad{s, a.g * c}, PGrad{c, a.g * -s}};
 }
 PGrad PointGradRules::tan(const PGrad& a, Domain*) {
   const double v = std::tan(a.v);

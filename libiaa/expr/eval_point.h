@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "core/vec.h"
 #include "expr/eval_loop.h"
@@ -46,6 +47,7 @@ struct PointRules {
   static double log(double a, Domain*);
   static double sin(double a);
   static double cos(double a);
+  static std::pair<double, double> sincos(double a);
   static double tan(double a, Domain*);
   static double atan(double a);
   static double abs(double a);

@@ -2,6 +2,8 @@
 // ties) the gradient of one side is returned; the interval gradient contains both sides.
 #pragma once
 
+#include <utility>
+
 #include "core/vec.h"
 #include "expr/eval_loop.h"
 
@@ -32,6 +34,7 @@ struct PointGradRules {
   static PGrad log(const PGrad& a, Domain*);
   static PGrad sin(const PGrad& a);
   static PGrad cos(const PGrad& a);
+  static std::pair<PGrad, PGrad> sincos(const PGrad& a);
   static PGrad tan(const PGrad& a, Domain*);
   static PGrad atan(const PGrad& a);
   static PGrad abs(const PGrad& a);

@@ -6,6 +6,9 @@
 // evaluator (the compiler points at every switch that misses it). `scale` is a product whose second
 // argument is a finite non-zero constant; only the tape compiler makes it (Tape::compile), so
 // that evaluators multiply by a known number without the tests a general product needs.
+// `sincos` and the `cos` after it are also the tape compiler's: where an expression takes both
+// sin(a) and cos(a), slot i (sincos) gets sin(a) and slot i + 1 (paired cos) cos(a), both from one
+// evaluation of the pair, as the interval and gradient rules share their work on a.
 #pragma once
 
 #include <cstdint>
@@ -13,30 +16,32 @@
 
 namespace iaa {
 
-#define IAA_OPCODES(X)          \
-  X(kVarX, "x", 0, false)       \
-  X(kVarY, "y", 0, false)       \
-  X(kVarZ, "z", 0, false)       \
-  X(kConst, "const", 0, false)  \
-  X(kAdd, "add", 2, false)      \
-  X(kSub, "sub", 2, false)      \
-  X(kMul, "mul", 2, false)      \
-  X(kScale, "scale", 2, false)  \
-  X(kDiv, "div", 2, false)      \
-  X(kNeg, "neg", 1, false)      \
-  X(kPowInt, "powi", 1, false)  \
-  X(kPow, "pow", 2, true)       \
-  X(kSquare, "square", 1, true) \
-  X(kSqrt, "sqrt", 1, true)     \
-  X(kExp, "exp", 1, true)       \
-  X(kLog, "log", 1, true)       \
-  X(kSin, "sin", 1, true)       \
-  X(kCos, "cos", 1, true)       \
-  X(kTan, "tan", 1, true)       \
-  X(kAtan, "atan", 1, true)     \
-  X(kAbs, "abs", 1, true)       \
-  X(kMin, "min", 2, true)       \
-  X(kMax, "max", 2, true)
+#define IAA_OPCODES(X)           \
+  X(kVarX, "x", 0, false)        \
+  X(kVarY, "y", 0, false)        \
+  X(kVarZ, "z", 0, false)        \
+  X(kConst, "const", 0, false)   \
+  X(kAdd, "add", 2, false)       \
+  X(kSub, "sub", 2, false)       \
+  X(kMul, "mul", 2, false)       \
+  X(kScale, "scale", 2, false)   \
+  X(kDiv, "div", 2, false)       \
+  X(kNeg, "neg", 1, false)       \
+  X(kPowInt, "powi", 1, false)   \
+  X(kPow, "pow", 2, true)        \
+  X(kSquare, "square", 1, true)  \
+  X(kSqrt, "sqrt", 1, true)      \
+  X(kExp, "exp", 1, true)        \
+  X(kLog, "log", 1, true)        \
+  X(kSin, "sin", 1, true)        \
+  X(kCos, "cos", 1, true)        \
+  X(kTan, "tan", 1, true)        \
+  X(kAtan, "atan", 1, true)      \
+  X(kAbs, "abs", 1, true)        \
+  X(kMin, "min", 2, true)        \
+  X(kMax, "max", 2, true)        \
+  X(kSinCos, "sincos", 1, false) \
+  X(kPairedCos, "cos", 1, false)
 
 /// An operation of the expression language.
 enum class Op : std::uint8_t {

@@ -51,9 +51,39 @@ Tape Tape::compile(const Dag& dag) {
     }
   }
   t.first_op_ = static_cast<int>(t.instrs_.size());
+  // sin(a) and cos(a) of the same a (one node each: the DAG merges repeats) become one sincos
+  // pair, emitted where the first of the two stands (a is before both).
+  std::unordered_map<NodeId, std::size_t> sin_of;
+  std::vector<std::int64_t> cos_partner(dag.size(), -1);
+  for (std::size_t i = 0; i < dag.size(); ++i) {
+    if (live[i] && dag.node(static_cast<NodeId>(i)).op == Op::kSin)
+      sin_of[dag.node(static_cast<NodeId>(i)).a] = i;
+  }
+  for (std::size_t i = 0; i < dag.size(); ++i) {
+    const Node& n = dag.node(static_cast<NodeId>(i));
+    if (!live[i] || n.op != Op::kCos) continue;
+    const auto it = sin_of.find(n.a);
+    if (it == sin_of.end()) continue;
+    cos_partner[it->second] = static_cast<std::int64_t>(i);
+    cos_partner[i] = static_cast<std::int64_t>(it->second);
+  }
   for (std::size_t i = 0; i < dag.size(); ++i) {
     if (!live[i] || slot[i] >= 0) continue;
     const Node& n = dag.node(static_cast<NodeId>(i));
+    if (cos_partner[i] >= 0) {
+      const auto j = static_cast<std::size_t>(cos_partner[i]);
+      const std::size_t sin_node = n.op == Op::kSin ? i : j;
+      const std::size_t cos_node = n.op == Op::kSin ? j : i;
+      Instr ins{Op::kSinCos};
+      ins.a = slot[static_cast<std::size_t>(n.a)];
+      slot[sin_node] = static_cast<std::int32_t>(t.instrs_.size());
+      t.instrs_.push_back(ins);
+      ins.op = Op::kPairedCos;
+      slot[cos_node] = static_cast<std::int32_t>(t.instrs_.size());
+      t.instrs_.push_back(ins);
+      t.constants_.insert(t.constants_.end(), 2, 0.0);
+      continue;
+    }
     Instr ins{n.op};
     ins.a = n.a >= 0 ? slot[static_cast<std::size_t>(n.a)] : -1;
     ins.b = n.b >= 0 ? slot[static_cast<std::size_t>(n.b)] : -1;
@@ -174,6 +204,11 @@ std::string Tape::to_text(std::size_t max_chars) const {
         todo.push_back({kSlot, in.a, nullptr});
         out += "(-";
         break;
+      case Op::kSinCos:  // its own slot holds the sin (the paired cos prints as cos)
+        todo.push_back(text(")"));
+        todo.push_back({kSlot, in.a, nullptr});
+        out += "sin(";
+        break;
       case Op::kPowInt:
         todo.push_back(text(")"));
         todo.push_back({kPower, p.slot, nullptr});
@@ -210,6 +245,8 @@ std::string Tape::listing() const {
       std::snprintf(buf, sizeof buf, "%4zu  const  %.17g\n", i, constants_[i]);
     } else if (in.op == Op::kPowInt) {
       std::snprintf(buf, sizeof buf, "%4zu  powi   $%d ^ %d\n", i, in.a, in.power);
+    } else if (in.op == Op::kPairedCos) {
+      std::snprintf(buf, sizeof buf, "%4zu  cos    $%d  (with the sincos above)\n", i, in.a);
     } else if (info(in.op).arity == 0) {
       std::snprintf(buf, sizeof buf, "%4zu  %s\n", i, std::string(info(in.op).text).c_str());
     } else if (info(in.op).arity == 1) {
@@ -248,10 +285,16 @@ Tape Tape::simplify(std::span<const std::uint8_t> choice) const {
   t.instrs_.clear();
   t.constants_.clear();
   std::vector<std::int32_t> slot(instrs_.size(), -1);
+  const auto kept = [&](std::size_t i) {
+    return i < 3 || (live[i] && alias[i] == static_cast<std::int32_t>(i));
+  };
   for (std::size_t i = 0; i < instrs_.size(); ++i) {
-    const bool keep = i < 3 || (live[i] && alias[i] == static_cast<std::int32_t>(i));
-    if (!keep) continue;
+    if (!kept(i)) continue;
     Instr in = instrs_[i];
+    // A sincos pair with one half gone is a plain sin or cos (kept instructions keep their
+    // order, so a pair with both halves stays adjacent).
+    if (in.op == Op::kSinCos && !kept(i + 1)) in.op = Op::kSin;
+    if (in.op == Op::kPairedCos && !kept(i - 1)) in.op = Op::kCos;
     if (in.a >= 0) in.a = slot[static_cast<std::size_t>(alias[static_cast<std::size_t>(in.a)])];
     if (in.b >= 0) in.b = slot[static_cast<std::size_t>(alias[static_cast<std::size_t>(in.b)])];
     if (in.op == Op::kMin || in.op == Op::kMax) t.has_min_max_ = true;

@@ -89,6 +89,26 @@ TEST(Evaluators, MinMaxChoicesSimplifyTheTape) {
   EXPECT_EQ(a.eval(0.5, 0.5, -1.5), b.eval(0.5, 0.5, -1.5));
 }
 
+TEST(Evaluators, SimplifyingAwayHalfOfASincosPairKeepsTheOtherHalf) {
+  // The min certainly takes y^2 on the box, so one half of the sin/cos pair of x goes.
+  for (const char* e : {"min(sin(x) + 10, y^2) + cos(x)", "min(cos(x) + 10, y^2) + sin(x)"}) {
+    const Tape t = Tape::parse(e);
+    IntervalEval ie(t);
+    RoundingScope scope;
+    const IBox box(Interval(0, 1), Interval(0, 1), Interval(0));
+    const Interval full = ie.eval(box);
+    const Tape s = t.simplify(ie.choices());
+    for (const Instr& in : s.instrs()) {
+      EXPECT_NE(in.op, Op::kSinCos) << e << "\n" << s.listing();
+      EXPECT_NE(in.op, Op::kPairedCos) << e << "\n" << s.listing();
+    }
+    IntervalEval se(s);
+    EXPECT_TRUE(full.contains(se.eval(box))) << e;
+    PointEval a(t), b(s);
+    EXPECT_EQ(a.eval(0.5, 0.5, 0), b.eval(0.5, 0.5, 0)) << e;
+  }
+}
+
 TEST(Evaluators, PartialDomainIsReported) {
   const Tape t = Tape::parse("sqrt(x) - 1");
   IntervalEval ie(t);

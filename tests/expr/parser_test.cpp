@@ -72,6 +72,26 @@ TEST(Parser, CommonSubexpressionsAreMerged) {
   EXPECT_EQ(t.op_count(), 7) << t.listing();
 }
 
+TEST(Parser, SinAndCosOfOneArgumentArePaired) {
+  const Tape t = Tape::parse("sin(2*z) * x + cos(2*z) * y + cos(x)");
+  // 2*z, one sincos pair, cos(x) alone, two products, two sums.
+  EXPECT_EQ(t.op_count(), 8) << t.listing();
+  int pairs = 0;
+  for (int i = t.first_op(); i < t.size(); ++i) {
+    const Op op = t.instrs()[static_cast<std::size_t>(i)].op;
+    if (op != Op::kSinCos) continue;
+    ++pairs;
+    ASSERT_LT(i + 1, t.size());
+    EXPECT_EQ(t.instrs()[static_cast<std::size_t>(i + 1)].op, Op::kPairedCos);
+    EXPECT_EQ(t.instrs()[static_cast<std::size_t>(i + 1)].a,
+              t.instrs()[static_cast<std::size_t>(i)].a);
+  }
+  EXPECT_EQ(pairs, 1) << t.listing();
+  EXPECT_EQ(t.to_text(), "((sin((2 * z)) * x) + (cos((2 * z)) * y) + cos(x))");
+  EXPECT_DOUBLE_EQ(at("sin(2*z) * x + cos(2*z) * y", 1.5, 0.25, 0.25),
+                   1.5 * std::sin(0.5) + 0.25 * std::cos(0.5));
+}
+
 TEST(Parser, RoundTripThroughText) {
   const char* exprs[] = {
       "x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5",

@@ -43,7 +43,15 @@ class RandomExpr {
       case 8:
         return "log(" + a + ")";
       case 9:
-        return (pick(2) ? "sin(" : "cos(") + a + ")";
+        // Both of one argument are compiled to one sincos pair (tape.cpp).
+        switch (pick(3)) {
+          case 0:
+            return "sin(" + a + ")";
+          case 1:
+            return "cos(" + a + ")";
+          default:
+            return "(sin(" + a + ") * cos(" + a + "))";
+        }
       case 10:
         return (pick(2) ? "tan(" : "atan(") + a + ")";
       case 11:
