@@ -41,6 +41,38 @@ Interval mean_value_form(RenderContext& ctx, const IBox& box) {
   return mean_value_form(ctx, box, g);
 }
 
+/// Mean-value form of F over the points p = eye + t d (t in `t`, d in `dirs`) of a depth piece of
+/// the beam that lie in `box` (the piece's box, clipped to the bounds), given the interval
+/// gradient `g` over `box`. Around the point c = eye + tc dc of the piece's central ray,
+///   p - c = (t - tc) d + tc (d - dc),
+/// and f(p) = f(c) + grad f(xi) . (p - c) for some xi on the segment from c to p, which lies in
+/// the box (convex, holding both). So
+///   f(p) in F(c) + (G . D) (T - tc) + tc G . (D - dc),
+/// and also in the box form F(c) + G . (box - c); both are kept. Along a beam that grazes the
+/// surface (a silhouette) G . D, the derivative along the rays, is small while the box form adds
+/// |G_i| times the box's whole extent in each axis: the ray form excludes pieces the box form
+/// keeps. c is enclosed in a tiny box (the double arithmetic of eye + tc dc rounds); the form is
+/// the natural enclosure alone when that box is not inside `box`. Valid where the box form is.
+Interval piece_mean_value_form(RenderContext& ctx, const IBox& box, const IGrad& g,
+                               const IBox& dirs, const Interval& t) {
+  const double tc = t.mid();
+  const IBox dc(Interval(dirs.x.mid()), Interval(dirs.y.mid()), Interval(dirs.z.mid()));
+  const IBox cb = segment_box(ctx.setup.frame.eye, dc, Interval(tc));
+  for (int i = 0; i < 3; ++i) {
+    if (!box[i].contains(cb[i])) return g.v;
+  }
+  const Interval fc = ctx.eval(cb);
+  Interval along = Interval(0.0), across = Interval(0.0), boxed = fc;
+  for (int i = 0; i < 3; ++i) {
+    const Interval& gi = g.g[static_cast<std::size_t>(i)];
+    along += gi * dirs[i];
+    across += gi * (dirs[i] - dc[i]);
+    boxed += gi * (box[i] - cb[i]);
+  }
+  const Interval rayed = fc + along * (t - tc) + Interval(tc) * across;
+  return intersect(intersect(rayed, boxed), g.v);
+}
+
 /// Sign of F on the (unclipped) slice of the beam at depth t: +1 / -1 when proved with intervals
 /// on a slice inside the bounds without partial domain, else 0.
 int slice_sign(RenderContext& ctx, const IBox& dirs, double t) {
@@ -157,7 +189,10 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     // enclosure only through overestimation: the sharper mean-value form excludes it at once,
     // where bisection would exclude it one tolerance-sized piece at a time.
     if (!partial && narrow && ctx.mv.allowed()) {
-      const Interval fm = have_grad ? mean_value_form(ctx, box, g) : mean_value_form(ctx, box);
+      bool gpartial = false;
+      if (!have_grad) g = ctx.eval_grad(box, &gpartial);
+      const Interval fm = gpartial ? Interval::whole()
+                                   : piece_mean_value_form(ctx, box, g, out.dirs, Interval(a, b));
       ctx.mv.record(!fm.contains_zero());
       if (trace)
         trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false, true});
