@@ -348,16 +348,30 @@ bool tighten_far(RenderContext& ctx, BeamSearch* s, double step) {
 
 namespace {
 
+/// What the estimator needs of a beam's direction box, computed once per beam: the box, the
+/// enclosure of 1 / |d|, and the cone around the box's centre that holds every direction.
+struct DirCone {
+  IBox dirs;
+  Interval inv_len;
+  Vec3 centre;
+  double half_angle;
+
+  explicit DirCone(const IBox& d) : dirs(d), centre(box_centre(d)), half_angle(cone_half_angle(d)) {
+    Domain dom = Domain::kFull;
+    inv_len = Interval(1.0) / sqrt(square(d.x) + square(d.y) + square(d.z), &dom);
+  }
+};
+
 /// The estimator's interval of n . d over one box, from its interval gradient `g`.
-Interval unit_dot(const IGrad& g, const IBox& dirs) {
+Interval unit_dot(const IGrad& g, const DirCone& dc) {
   const Interval n2 = square(g.g[0]) + square(g.g[1]) + square(g.g[2]);
   if (!(n2.lo() > 0.0) || !n2.is_finite()) return Interval::whole();
   // The componentwise interval form: grad F . d / (|grad F| |d|).
   Domain dom = Domain::kFull;
   const Interval inv_n = Interval(1.0) / sqrt(n2, &dom);
-  const Interval d2 = square(dirs.x) + square(dirs.y) + square(dirs.z);
-  const Interval inv_d = Interval(1.0) / sqrt(d2, &dom);
-  const Interval quotient = (g.g[0] * dirs.x + g.g[1] * dirs.y + g.g[2] * dirs.z) * inv_n * inv_d;
+  const IBox& dirs = dc.dirs;
+  const Interval quotient =
+      (g.g[0] * dirs.x + g.g[1] * dirs.y + g.g[2] * dirs.z) * inv_n * dc.inv_len;
   const IBox gb(g.g[0], g.g[1], g.g[2]);
   // Both the normals and the directions are enclosed in cones around their boxes' centres; the
   // angle between a normal and a direction then lies within the sum of the half-angles of the
@@ -365,9 +379,9 @@ Interval unit_dot(const IGrad& g, const IBox& dirs) {
   // interval quotient, much more tightly (that one multiplies the width by the ratio of the
   // largest to the smallest |grad F| on the box). Both enclose the same set, so their
   // intersection does too. A cone of 90 degrees or more proves nothing: the quotient alone.
-  const double ag = cone_half_angle(gb), ad = cone_half_angle(dirs);
+  const double ag = cone_half_angle(gb), ad = dc.half_angle;
   if (!(ag < kHalfPi) || !(ad < kHalfPi)) return quotient;
-  const Vec3 cg = box_centre(gb), cd = box_centre(dirs);
+  const Vec3 cg = box_centre(gb), cd = dc.centre;
   const double c0 = dot(cg, cd) / (length(cg) * length(cd));
   const double th = std::acos(std::clamp(c0, -1.0, 1.0));
   // The slack covers the rounding of the few double operations above (a decision, not a claim).
@@ -387,6 +401,7 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
   // gradients (the box of a long slanted segment is much wider than the segment).
   const Vec3& eye = ctx.setup.frame.eye;
   Interval out = Interval::empty();
+  const DirCone dc(s.dirs);
   const int n = std::max(1, pieces);
   for (int k = 0; k < n; ++k) {
     const double t0 = k == 0 ? s.t_near : s.t_near + (s.t_far - s.t_near) * k / n;
@@ -396,7 +411,8 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
     const IGrad g = ctx.eval_grad(box, &partial);
     if (partial) return Interval::whole();
     if (n > 1 && !g.v.contains_zero()) continue;
-    out = out.is_empty() ? unit_dot(g, s.dirs) : hull(out, unit_dot(g, s.dirs));
+    const Interval u = unit_dot(g, dc);
+    out = out.is_empty() ? u : hull(out, u);
     if (out.width() > stop_above) return out;  // the hull only grows: the decision is made
   }
   return out.is_empty() ? Interval::whole() : out;
