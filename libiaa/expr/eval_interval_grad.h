@@ -102,6 +102,13 @@ struct IntervalGradRules {
   static IGrad scale(const IGrad& a, double c, VarMask m) {
     return {iaa::scale(a.v, c), igrad::scale(a.g, c, m)};
   }
+  // (a/c)' = a' / c for a finite non-zero constant c.
+  static IGrad div_const(const IGrad& a, double c, VarMask m) {
+    Domain d = Domain::kFull;
+    const Interval ci(c);
+    return {divide(a.v, ci, &d),
+            igrad::each(m, [&](std::size_t i) { return divide(a.g[i], ci, &d); })};
+  }
   static IGrad div(const IGrad& a, const IGrad& b, Domain* d, VarMask m) {
     const Interval v = divide(a.v, b.v, d);
     // (a/b)' = (a' - (a/b) b') / b

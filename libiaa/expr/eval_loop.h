@@ -40,7 +40,7 @@ inline std::vector<VarMask> var_masks(const Tape& tape) {
   const auto ins = tape.instrs();
   for (int i = tape.first_op(); i < tape.size(); ++i) {
     const Instr& in = ins[static_cast<std::size_t>(i)];
-    // kScale's b is a constant slot (mask 0), kPowInt has no b.
+    // kScale's and kDivConst's b is a constant slot (mask 0), kPowInt has no b.
     VarMask v = m[static_cast<std::size_t>(in.a)];
     if (in.b >= 0) v |= m[static_cast<std::size_t>(in.b)];
     m[static_cast<std::size_t>(i)] = v;
@@ -112,6 +112,9 @@ class TapeLoop {
             break;
           case Op::kDiv:
             put<Rules>(o, Rules::div(a, s[in.b], &dom_, m...), m...);
+            break;
+          case Op::kDivConst:
+            put<Rules>(o, Rules::div_const(a, k[in.b], m...), m...);
             break;
           case Op::kNeg:
             put<Rules>(o, Rules::neg(a, m...), m...);

@@ -21,6 +21,7 @@ struct PointRules {
   static double sub(double a, double b) { return a - b; }
   static double mul(double a, double b) { return a * b; }
   static double scale(double a, double c) { return a * c; }
+  static double div_const(double a, double c) { return a / c; }
   // A pole (division by exactly 0, log of 0) is undefined, NaN, as in the interval rules; IEEE's
   // infinities would turn finite again downstream (atan(1/0) = pi/2) where intervals say empty.
   static double div(double a, double b, Domain*) {

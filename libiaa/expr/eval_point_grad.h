@@ -24,6 +24,7 @@ struct PointGradRules {
   static PGrad sub(const PGrad& a, const PGrad& b) { return {a.v - b.v, a.g - b.g}; }
   static PGrad mul(const PGrad& a, const PGrad& b) { return {a.v * b.v, a.g * b.v + b.g * a.v}; }
   static PGrad scale(const PGrad& a, double c) { return {a.v * c, a.g * c}; }
+  static PGrad div_const(const PGrad& a, double c) { return {a.v / c, a.g / c}; }
   static PGrad div(const PGrad& a, const PGrad& b, Domain*);
   static PGrad neg(const PGrad& a) { return {-a.v, -a.g}; }
   static PGrad pow_int(const PGrad& a, int n);

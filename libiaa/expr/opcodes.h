@@ -5,7 +5,9 @@
 // driven by this list; adding a function is one line here plus its evaluation rule in each
 // evaluator (the compiler points at every switch that misses it). `scale` is a product whose second
 // argument is a finite non-zero constant; only the tape compiler makes it (Tape::compile), so
-// that evaluators multiply by a known number without the tests a general product needs.
+// that evaluators multiply by a known number without the tests a general product needs. `divc`
+// likewise is a quotient by a finite non-zero constant (second): never partial, and its
+// derivative is the numerator's divided by the constant.
 // `sincos` and the `cos` after it are also the tape compiler's: where an expression takes both
 // sin(a) and cos(a), slot i (sincos) gets sin(a) and slot i + 1 (paired cos) cos(a), both from one
 // evaluation of the pair, as the interval and gradient rules share their work on a.
@@ -26,6 +28,7 @@ namespace iaa {
   X(kMul, "mul", 2, false)       \
   X(kScale, "scale", 2, false)   \
   X(kDiv, "div", 2, false)       \
+  X(kDivConst, "divc", 2, false) \
   X(kNeg, "neg", 1, false)       \
   X(kPowInt, "powi", 1, false)   \
   X(kPow, "pow", 2, true)        \

@@ -96,6 +96,7 @@ Tape Tape::compile(const Dag& dag) {
     };
     if (n.op == Op::kMul && finite_nonzero_const(ins.a)) std::swap(ins.a, ins.b);
     if (n.op == Op::kMul && finite_nonzero_const(ins.b)) ins.op = Op::kScale;
+    if (n.op == Op::kDiv && finite_nonzero_const(ins.b)) ins.op = Op::kDivConst;
     if (n.op == Op::kMin || n.op == Op::kMax) t.has_min_max_ = true;
     slot[i] = static_cast<std::int32_t>(t.instrs_.size());
     t.instrs_.push_back(ins);
@@ -120,6 +121,7 @@ int infix_group(Op op) {
     case Op::kMul:
     case Op::kScale:
     case Op::kDiv:
+    case Op::kDivConst:
       return 2;
     default:
       return 0;
@@ -197,6 +199,7 @@ std::string Tape::to_text(std::size_t max_chars) const {
         infix(in.b, " * ", in.a);
         break;
       case Op::kDiv:
+      case Op::kDivConst:
         infix(in.a, " / ", in.b);
         break;
       case Op::kNeg:

@@ -92,12 +92,28 @@ TEST(Parser, SinAndCosOfOneArgumentArePaired) {
                    1.5 * std::sin(0.5) + 0.25 * std::cos(0.5));
 }
 
+TEST(Parser, QuotientsByFiniteNonZeroConstantsAreDivc) {
+  const auto root_op = [](const char* e) {
+    const Tape t = Tape::parse(e);
+    return t.instrs()[static_cast<std::size_t>(t.root())].op;
+  };
+  EXPECT_EQ(root_op("x / 0.03"), Op::kDivConst);
+  EXPECT_EQ(root_op("x / (-3)"), Op::kDivConst);
+  EXPECT_EQ(root_op("x / 0"), Op::kDiv);  // a pole: stays a general quotient (partial domain)
+  EXPECT_EQ(root_op("x / y"), Op::kDiv);
+  EXPECT_EQ(root_op("3 / x"), Op::kDiv);
+  EXPECT_EQ(Tape::parse("x / 0.5").to_text(), "(x / 0.5)");
+  EXPECT_EQ(at("x / 0.03", 3), 3 / 0.03);
+  EXPECT_EQ(at("y / (-4)", 0, 2), -0.5);
+}
+
 TEST(Parser, RoundTripThroughText) {
   const char* exprs[] = {
       "x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5",
       "0.5*x^5 + 0.5*x^4 - y^2 - z^2",
       "min(x, 2*y) - max(abs(z), sqrt(x^2 + 1e-3)) / (1 + exp(-x))",
       "pow(x, y) + x^(-3) + atan(tan(z)) - log(1 + x^2) * -3",
+      "x / 0.03 - y / (x / 7) + sin(z / 3) * cos(z / 3)",
   };
   for (const char* e : exprs) {
     const Tape a = Tape::parse(e);
