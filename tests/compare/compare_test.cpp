@@ -198,9 +198,30 @@ TEST(Compare, TeardropOctreeLosesFewerPixelsThanPeers) {
   RenderSettings rs = scene.settings;
   rs.method = RenderMethod::kIaa;
   const Film film = render(scene, rs);
+  // A wrong pixel (IAA proves it empty, the mesh is there) far from any surface pixel would be a
+  // mesh off the surface; one next to a pixel that IAA does not prove empty is a mesh that
+  // reaches a fraction of a pixel past the silhouette (the peers' vertices are interpolated, up
+  // to ~2e-3 off the surface here, about 0.2 pixel).
+  std::uint64_t far_wrong = 0;
   auto lost = [&](const TriangleSoup& m, std::uint64_t* wrong) {
     const Comparison c = compare_with_film(film, view_mesh(m, scene, 1).any);
     *wrong = c.counts.wrong;
+    const int w = film.width, h = film.height;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        if (c.pixel[static_cast<std::size_t>(y * w + x)] != PixelAgreement::kWrong) continue;
+        bool beside_surface = false;
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int u = x + dx, v = y + dy;
+            if (u < 0 || v < 0 || u >= w || v >= h) continue;
+            const PixelAgreement a = c.pixel[static_cast<std::size_t>(v * w + u)];
+            beside_surface |= a != PixelAgreement::kBothEmpty && a != PixelAgreement::kWrong;
+          }
+        }
+        far_wrong += !beside_surface;
+      }
+    }
     return c.counts.lost;
   };
   OctreeMeshSettings os;
@@ -221,9 +242,11 @@ TEST(Compare, TeardropOctreeLosesFewerPixelsThanPeers) {
   EXPECT_LT(ours, vtk);
   EXPECT_LT(ours, cgal);
   EXPECT_GT(vtk, 5u);
+  // Ours: no wrong pixel at all. The peers: a few at most, each beside the silhouette.
   EXPECT_EQ(w1, 0u);
-  EXPECT_EQ(w2, 0u);
-  EXPECT_EQ(w3, 0u);
+  EXPECT_LE(w2, 3u);
+  EXPECT_LE(w3, 3u);
+  EXPECT_EQ(far_wrong, 0u);
 }
 #endif
 
