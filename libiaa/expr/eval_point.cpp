@@ -30,7 +30,13 @@ double PointRules::cos(double a) {
   return std::cos(a);
 }
 std::pair<double, double> PointRules::sincos(double a) {
-  return {std::sin(a), std::cos(a)};
+  std::pair<double, double> r;
+#if defined(__GLIBC__)
+  ::sincos(a, &r.first, &r.second);  // the same values as sin and cos, for the cost of one
+#else
+  r = {std::sin(a), std::cos(a)};
+#endif
+  return r;
 }
 double PointRules::tan(double a, Domain*) {
   return std::tan(a);
@@ -78,7 +84,7 @@ PGrad PointGradRules::cos(const PGrad& a) {
   return {std::cos(a.v), a.g * -std::sin(a.v)};
 }
 std::pair<PGrad, PGrad> PointGradRules::sincos(const PGrad& a) {
-  const double s = std::sin(a.v), c = std::cos(a.v);
+  const auto [s, c] = PointRules::sincos(a.v);
   return {PGrad{s, a.g * c}, PGrad{c, a.g * -s}};
 }
 PGrad PointGradRules::tan(const PGrad& a, Domain*) {
