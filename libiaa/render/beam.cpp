@@ -396,26 +396,77 @@ Interval unit_dot(const IGrad& g, const DirCone& dc) {
 
 Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, double stop_above) {
   // Only the normals at the first hits matter, and those lie where the surface may be: the hit
-  // segment is cut into `pieces` in depth, a piece whose F excludes 0 holds no hit and is left
-  // out, and the estimator is the hull over the others. Smaller boxes also give sharper
-  // gradients (the box of a long slanted segment is much wider than the segment).
-  const Vec3& eye = ctx.setup.frame.eye;
-  Interval out = Interval::empty();
+  // segment is cut into depth pieces, a piece whose F excludes 0 holds no hit and is left out,
+  // and the estimator is the hull over the others. Smaller boxes also give sharper gradients
+  // (the box of a long slanted segment is much wider than the segment). The pieces are halves
+  // first, then the halves of those that may hold a hit and are needed, down to `pieces`: the
+  // hull over coarser pieces often decides already, and the halves of a piece that excludes 0
+  // are never evaluated.
   const DirCone dc(s.dirs);
-  const int n = std::max(1, pieces);
-  for (int k = 0; k < n; ++k) {
-    const double t0 = k == 0 ? s.t_near : s.t_near + (s.t_far - s.t_near) * k / n;
-    const double t1 = k == n - 1 ? s.t_far : s.t_near + (s.t_far - s.t_near) * (k + 1) / n;
-    const IBox box = n == 1 ? s.hit_box : segment_box(eye, s.dirs, Interval(t0, t1));
-    bool partial = false;
-    const IGrad g = ctx.eval_grad(box, &partial);
-    if (partial) return Interval::whole();
-    if (n > 1 && !g.v.contains_zero()) continue;
-    const Interval u = unit_dot(g, dc);
-    out = out.is_empty() ? u : hull(out, u);
-    if (out.width() > stop_above) return out;  // the hull only grows: the decision is made
+  const auto estimate = [&](const IBox& box, bool* partial, bool* may_hit) {
+    const IGrad g = ctx.eval_grad(box, partial);
+    *may_hit = g.v.contains_zero();
+    return unit_dot(g, dc);
+  };
+  if (pieces <= 1) {
+    bool partial = false, may_hit = false;
+    const Interval u = estimate(s.hit_box, &partial, &may_hit);
+    return partial ? Interval::whole() : u;
   }
-  return out.is_empty() ? Interval::whole() : out;
+  constexpr int kMaxPieces = 64;
+  struct Piece {
+    double t0, t1;
+  };
+  Piece cur[kMaxPieces], next[kMaxPieces];
+  int n = 0;
+  const double tm = 0.5 * (s.t_near + s.t_far);
+  if (tm > s.t_near && tm < s.t_far) {
+    cur[n++] = {s.t_near, tm};
+    cur[n++] = {tm, s.t_far};
+  } else {
+    cur[n++] = {s.t_near, s.t_far};
+  }
+  const int most = std::min(pieces, kMaxPieces);
+  for (int width = 2;; width *= 2) {
+    // Evaluate this level front to back until the hull is too wide; what is left (and the kept
+    // pieces) is halved for the next level.
+    Interval out = Interval::empty();
+    int m = 0;
+    bool decided_wide = false;
+    const bool finer = 2 * width <= most;
+    for (int k = 0; k < n; ++k) {
+      const Piece p = cur[k];
+      if (decided_wide) {
+        next[m++] = p;  // not evaluated at this level
+        continue;
+      }
+      bool partial = false, may_hit = false;
+      const Interval u = estimate(segment_box(ctx.setup.frame.eye, s.dirs, Interval(p.t0, p.t1)),
+                                  &partial, &may_hit);
+      if (partial) return Interval::whole();
+      if (!may_hit) continue;
+      out = out.is_empty() ? u : hull(out, u);
+      next[m++] = p;
+      // The hull only grows: the decision at this level is made.
+      if (out.width() > stop_above) {
+        if (!finer) return out;
+        decided_wide = true;
+      }
+    }
+    if (!decided_wide) return out.is_empty() ? Interval::whole() : out;
+    // Halve the pieces that are left.
+    n = 0;
+    for (int k = 0; k < m; ++k) {
+      const Piece p = next[k];
+      const double mid = 0.5 * (p.t0 + p.t1);
+      if (mid > p.t0 && mid < p.t1) {
+        cur[n++] = {p.t0, mid};
+        cur[n++] = {mid, p.t1};
+      } else {
+        cur[n++] = p;
+      }
+    }
+  }
 }
 
 }  // namespace iaa

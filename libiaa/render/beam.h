@@ -59,9 +59,12 @@ bool tighten_far(RenderContext& ctx, BeamSearch* s, double step);
 /// product of the unit normal grad F / |grad F| over the hit box with the unit beam direction.
 /// Returns the whole line when |grad F| cannot be bounded away from 0 (or f is partial there).
 ///
-/// With `pieces` > 1 the hit segment is cut into that many depth pieces, those whose F excludes 0
-/// (no hit there) are left out and the result is the hull over the others. The evaluation stops
-/// once that hull is wider than `stop_above` (the caller's threshold: the decision is made).
+/// With `pieces` > 1 the hit segment is cut into depth pieces, those whose F excludes 0 (no hit
+/// there) are left out and the result is the hull over the others: halves first, and while that
+/// hull is wider than `stop_above` (the caller's threshold) the halves of the pieces not left out,
+/// down to `pieces` pieces. Every level encloses the same normals, finer ones more tightly; the
+/// result is the first within `stop_above`, or the finest level's hull (evaluated only until it
+/// is wider than `stop_above`: the decision is made).
 Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces = 1,
                         double stop_above = 2.0);
 

@@ -42,8 +42,9 @@ constexpr double kPartialMissWeight = 0.25;
 /// Point-value steps over [t_near, t_far] in which the first crossing of a Full part's central
 /// ray is looked for before regula falsi narrows it (full_root).
 constexpr int kRootMarch = 8;
-/// Depth pieces of a Full beam's hit segment over which the estimator is taken (beam_estimator).
-constexpr int kEstimatorPieces = 4;
+/// Most depth pieces of a Full beam's hit segment over which the estimator is taken (halves first,
+/// then halves of those that may hold a hit while the hull is too wide: beam_estimator).
+constexpr int kEstimatorPieces = 8;
 
 bool may_be_partial(const Tape& tape) {
   for (const Instr& in : tape.instrs()) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "expr/eval_point_grad.h"
 #include "render/ray_search.h"
 #include "render/render_test_util.h"
 
@@ -146,6 +147,58 @@ TEST(EvalRaySet, SilhouetteBeamsKeepTheirCertificates) {
   EXPECT_GT(beams - misses, 200);
   RecordProperty("beams", beams);
   RecordProperty("misses", misses);
+}
+
+// The estimator encloses n . d at the first hits: for random Full beams (before and after
+// tighten_far, over 1 to 8 depth pieces), the unit normal at the first root of random rays of the
+// beam, dotted with the ray's unit direction, lies in the estimator's interval.
+TEST(BeamEstimator, EnclosesTheNormalsAtTheFirstHits) {
+  std::mt19937 rng(4242);
+  int checked = 0;
+  for (const char* name : {"sphere", "teardrop", "chubs", "tritrumpet", "twist", "blobby"}) {
+    const Scene s = std::string(name) == "sphere" ? test::parse(test::sphere_scene(0.5, 3, 30, 64))
+                                                  : test::bundled(name, 64);
+    const RenderSetup setup(s, RenderSettings{});
+    RoundingScope scope;
+    RenderContext ctx(setup);
+    PointGradEval pg(*s.tape);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    int fulls = 0;
+    for (int trial = 0; trial < 400 && fulls < 12; ++trial) {
+      const double w = std::ldexp(1.0, static_cast<int>(U(rng) * 5) - 2);
+      const double u0 = U(rng) * (64 - w), v0 = U(rng) * (64 - w);
+      const PixelRect rect{u0, v0, u0 + w, v0 + w};
+      BeamSearch b = eval_ray_set(ctx, rect, setup.depth, nullptr, nullptr);
+      if (b.result != BeamResult::kFull) continue;
+      ++fulls;
+      for (int variant = 0; variant < 2; ++variant) {
+        if (variant == 1) tighten_far(ctx, &b, 1e-3 * w * setup.frame.scale * b.t_near);
+        for (int pieces : {1, 2, 4, 8}) {
+          const Interval est = beam_estimator(ctx, b, pieces);
+          for (int k = 0; k < 20; ++k) {
+            const double u = rect.u0 + U(rng) * w, v = rect.v0 + U(rng) * w;
+            const RayHit h = search_ray(ctx, setup.frame.eye, setup.frame.dir_box(u, v),
+                                        Interval(b.t_near, b.t_far), setup.ray_tol, 1.0);
+            if (!h.certified) continue;
+            // The first root of this ray: none before t_near (the beam's certificate).
+            const Vec3 d = setup.frame.dir(u, v);
+            const Vec3 g = pg.eval(setup.frame.eye + h.t.mid() * d).g;
+            if (!(length(g) > 0)) continue;
+            const double nd = dot(g, d) / (length(g) * length(d));
+            // The point gradient is taken at a point within the ray tolerance of the root.
+            EXPECT_TRUE(est.contains(nd) ||
+                        std::min(std::fabs(nd - est.lo()), std::fabs(nd - est.hi())) < 1e-6)
+                << name << " beam [" << u0 << ", " << v0 << "; w " << w << "] pieces " << pieces
+                << (variant ? " (tightened)" : "") << ": n.d " << nd << " outside [" << est.lo()
+                << ", " << est.hi() << "]";
+            ++checked;
+          }
+        }
+      }
+    }
+    EXPECT_GE(fulls, 5) << name;
+  }
+  EXPECT_GT(checked, 2000);
 }
 
 /// Sign of f at the point of the ray eye + t d(u, v), proved with intervals on the box of that
