@@ -81,6 +81,12 @@ TEST(EvalRaySet, MissBeamsHoldNoRootOfRandomRays) {
   EXPECT_GT(fulls, 5);
 }
 
+/// A bundled scene at 64x64, or "sphere": a sphere of radius 0.5 seen from distance 3.
+Scene scene_64(const std::string& name) {
+  return name == "sphere" ? test::parse(test::sphere_scene(0.5, 3, 30, 64))
+                          : test::bundled(name, 64);
+}
+
 // Beams that graze the surface (on silhouettes and the rims of thin features) are where the
 // mean-value form in the beam's own frame excludes depth pieces that the box form keeps
 // (beam.cpp, piece_mean_value_form). Beams of 1/16 to 1 pixel centred on a silhouette, found as
@@ -90,8 +96,7 @@ TEST(EvalRaySet, SilhouetteBeamsKeepTheirCertificates) {
   std::mt19937 rng(777);
   int beams = 0, misses = 0;
   for (const char* name : {"sphere", "teardrop", "chubs", "tritrumpet", "twist"}) {
-    const Scene s = std::string(name) == "sphere" ? test::parse(test::sphere_scene(0.5, 3, 30, 64))
-                                                  : test::bundled(name, 64);
+    const Scene s = scene_64(name);
     const RenderSetup setup(s, RenderSettings{});
     RoundingScope scope;
     RenderContext ctx(setup);
@@ -156,8 +161,7 @@ TEST(BeamEstimator, EnclosesTheNormalsAtTheFirstHits) {
   std::mt19937 rng(4242);
   int checked = 0;
   for (const char* name : {"sphere", "teardrop", "chubs", "tritrumpet", "twist", "blobby"}) {
-    const Scene s = std::string(name) == "sphere" ? test::parse(test::sphere_scene(0.5, 3, 30, 64))
-                                                  : test::bundled(name, 64);
+    const Scene s = scene_64(name);
     const RenderSetup setup(s, RenderSettings{});
     RoundingScope scope;
     RenderContext ctx(setup);
