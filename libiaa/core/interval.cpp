@@ -25,8 +25,9 @@ constexpr double kDenormMin = std::numeric_limits<double>::denorm_min();
 
 // Decides conservatively whether some point c_k = offset + k * period lies in [lo, hi]. Returns
 // the smallest such k through *k_first and whether the range may hold more than one. The slack
-// (1e-9 periods) absorbs the rounding error of the division for |x| <= 1e6: a critical point that
-// is truly inside is never missed; one just outside may be reported (a looser, still sound bound).
+// (1e-9 periods) absorbs the rounding error of (x - offset) / period, computed as a product with
+// the rounded 1/period, for |x| <= 1e6: a critical point that is truly inside is never missed; one
+// just outside may be reported (a looser, still sound bound).
 struct CriticalPoints {
   bool any;        // at least one c_k may lie in [lo, hi]
   double k_first;  // smallest candidate k (integer-valued)
@@ -93,7 +94,7 @@ class LibmNearest {
 
 double widen_down(double v, int n) {
   if (!std::isfinite(v)) return v;
-  // n * 2^-52 * |v| is between n/2 and n ulps of v; 2^-1074 per ulp covers subnormals.
+  // n * 2^-52 * |v| is between n and 2n ulps of v; 2^-1074 per ulp covers subnormals.
   const double d = std::fabs(v) * (n * DBL_EPSILON) + n * kDenormMin;
   const double r = v - d;
   return std::isfinite(r) ? next_down(r) : r;

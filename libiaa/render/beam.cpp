@@ -51,15 +51,16 @@ Interval mean_value_form(RenderContext& ctx, const IBox& box) {
 /// and also in the box form F(c) + G . (box - c); both are kept. Along a beam that grazes the
 /// surface (a silhouette) G . D, the derivative along the rays, is small while the box form adds
 /// |G_i| times the box's whole extent in each axis: the ray form excludes pieces the box form
-/// keeps. c is enclosed in a tiny box (the double arithmetic of eye + tc dc rounds); the form is
-/// the natural enclosure alone when that box is not inside `box`. Valid where the box form is.
+/// keeps. c is enclosed in a tiny box (the double arithmetic of eye + tc dc rounds); when that box
+/// is not inside `box` (a piece clipped by the bounds), the box form around the box's centre is
+/// used alone. Valid where the box form is.
 Interval piece_mean_value_form(RenderContext& ctx, const IBox& box, const IGrad& g,
                                const IBox& dirs, const Interval& t) {
   const double tc = t.mid();
   const IBox dc(Interval(dirs.x.mid()), Interval(dirs.y.mid()), Interval(dirs.z.mid()));
   const IBox cb = segment_box(ctx.setup.frame.eye, dc, Interval(tc));
   for (int i = 0; i < 3; ++i) {
-    if (!box[i].contains(cb[i])) return g.v;
+    if (!box[i].contains(cb[i])) return mean_value_form(ctx, box, g);  // the box form alone
   }
   const Interval fc = ctx.eval(cb);
   Interval along = Interval(0.0), across = Interval(0.0), boxed = fc;
