@@ -438,7 +438,6 @@ class Extractor {
     }
   }
 
-  static constexpr std::size_t kNone = ~std::size_t{0};
   const Grid& g_;
   const Enclosure& e_;
   IPoint origin_{};
