@@ -6,10 +6,7 @@
 #include <cfloat>
 #include <cstdint>
 #include <numbers>
-
-#if defined(__x86_64__) && defined(__SSE2__)
-#include <xmmintrin.h>
-#endif
+#include <utility>
 
 namespace iaa {
 
@@ -104,6 +101,13 @@ class LibmNearest {
   LibmNearest(const LibmNearest&) = delete;
   LibmNearest& operator=(const LibmNearest&) = delete;
 };
+
+// f at both ends of x, its libm calls in round-to-nearest (LibmNearest).
+template <class F>
+std::pair<double, double> at_ends(const Interval& x, F f) {
+  const LibmNearest nearest;
+  return {f(x.lo()), f(x.hi())};
+}
 
 }  // namespace
 
@@ -204,12 +208,7 @@ Interval sqrt(const Interval& x, Domain* dom) {
 Interval exp(const Interval& x) {
   if (x.is_empty()) return x;
   // exp > 0 and finite for every real argument, so clamp the lower bound into (0, DBL_MAX].
-  double e_lo, e_hi;
-  {
-    const LibmNearest nearest;
-    e_lo = std::exp(x.lo());
-    e_hi = std::exp(x.hi());
-  }
+  const auto [e_lo, e_hi] = at_ends(x, [](double v) { return std::exp(v); });
   const double lo = std::clamp(widen_down(e_lo), 0.0, DBL_MAX);
   const double hi = widen_up(e_hi);
   return Interval(lo, hi);
@@ -221,12 +220,8 @@ Interval log(const Interval& x, Domain* dom) {
     *dom = Domain::kPartial;
     return Interval::empty();
   }
-  double l_lo = -kInf, l_hi;
-  {
-    const LibmNearest nearest;
-    if (x.lo() > 0.0) l_lo = std::log(x.lo());
-    l_hi = std::log(x.hi());
-  }
+  // log(lo) for lo > 0; -inf where the box reaches 0 or below (partial).
+  const auto [l_lo, l_hi] = at_ends(x, [](double v) { return v > 0.0 ? std::log(v) : -kInf; });
   if (x.lo() <= 0.0) *dom = Domain::kPartial;
   // log of a finite double is at most ~709.8; log(inf) = inf stays unbounded.
   return Interval(widen_down(l_lo), widen_up(l_hi));
@@ -251,9 +246,9 @@ Interval periodic_unit(const Interval& x, double a, double b, double max_offset)
   }
   return Interval(std::max(lo, -1.0), std::min(hi, 1.0));
 }
-// sin and cos of one argument. glibc's sincos gives the same values as its sin and cos (one
-// implementation) for about the cost of one of them; elsewhere, the two calls.
-void sincos_d(double v, double* s, double* c) {
+}  // namespace
+
+void sincos(double v, double* s, double* c) {
 #if defined(__GLIBC__)
   ::sincos(v, s, c);
 #else
@@ -261,28 +256,17 @@ void sincos_d(double v, double* s, double* c) {
   *c = std::cos(v);
 #endif
 }
-}  // namespace
 
 Interval sin(const Interval& x) {
   if (x.is_empty()) return x;
   if (trig_takes_whole_range(x)) return Interval(-1.0, 1.0);
-  double a, b;
-  {
-    const LibmNearest nearest;
-    a = std::sin(x.lo());
-    b = std::sin(x.hi());
-  }
+  const auto [a, b] = at_ends(x, [](double v) { return std::sin(v); });
   return periodic_unit(x, a, b, kPi / 2.0);
 }
 Interval cos(const Interval& x) {
   if (x.is_empty()) return x;
   if (trig_takes_whole_range(x)) return Interval(-1.0, 1.0);
-  double a, b;
-  {
-    const LibmNearest nearest;
-    a = std::cos(x.lo());
-    b = std::cos(x.hi());
-  }
+  const auto [a, b] = at_ends(x, [](double v) { return std::cos(v); });
   return periodic_unit(x, a, b, 0.0);
 }
 void sincos(const Interval& x, Interval* s, Interval* c) {
@@ -297,8 +281,8 @@ void sincos(const Interval& x, Interval* s, Interval* c) {
   double sl, cl, sh, ch;
   {
     const LibmNearest nearest;
-    sincos_d(x.lo(), &sl, &cl);
-    sincos_d(x.hi(), &sh, &ch);
+    sincos(x.lo(), &sl, &cl);
+    sincos(x.hi(), &sh, &ch);
   }
   *s = periodic_unit(x, sl, sh, kPi / 2.0);
   *c = periodic_unit(x, cl, ch, 0.0);

@@ -372,6 +372,9 @@ Interval cos(const Interval& x);
 /// sin(x) and cos(x) at once, as the two functions give them; shares the work on x (one sincos
 /// per endpoint), for the gradient rules, which need both.
 void sincos(const Interval& x, Interval* s, Interval* c);
+/// sin(v) and cos(v) of a double, the values std::sin and std::cos give, for about the cost of
+/// one (glibc's sincos; elsewhere the two calls). No rounding guarantee: a point value.
+void sincos(double v, double* s, double* c);
 /// tan; an interval that contains a pole gives the whole line and kPartial.
 Interval tan(const Interval& x, Domain* dom);
 Interval atan(const Interval& x);

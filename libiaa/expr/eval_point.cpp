@@ -31,11 +31,7 @@ double PointRules::cos(double a) {
 }
 std::pair<double, double> PointRules::sincos(double a) {
   std::pair<double, double> r;
-#if defined(__GLIBC__)
-  ::sincos(a, &r.first, &r.second);  // the same values as sin and cos, for the cost of one
-#else
-  r = {std::sin(a), std::cos(a)};
-#endif
+  iaa::sincos(a, &r.first, &r.second);
   return r;
 }
 double PointRules::tan(double a, Domain*) {
