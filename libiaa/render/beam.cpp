@@ -164,7 +164,6 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   }
   double a = 0, b = 0;
   bool found = false;
-  bool kept_partial = false;
   while (st.pop(&a, &b)) {
     const IBox box = clip_box(segment_box(eye, out.dirs, Interval(a, b)), ctx.bounds());
     if (box.is_empty()) {
@@ -201,7 +200,6 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     }
     if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) {
       found = true;
-      kept_partial = partial;
       out.hit_box = box;
       break;
     }
@@ -302,7 +300,6 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
       t_fail = tf;
     }
   }
-  (void)kept_partial;
   return traced(out, reason, trace);
 }
 
