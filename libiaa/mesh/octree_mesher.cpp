@@ -38,6 +38,10 @@ void OctreeMeshSettings::validate() const {
     throw SettingError("octree mesh: centre_steps must be in 0..20, got " +
                        std::to_string(centre_steps));
   }
+  if (!(flat_tolerance >= 0 && flat_tolerance <= 1)) {
+    throw SettingError("octree mesh: flat_tolerance must be in 0..1 (of the leaf's edge), got " +
+                       std::to_string(flat_tolerance));
+  }
 }
 
 namespace {
@@ -236,12 +240,19 @@ struct Crossing {
 struct Centre {
   std::uint32_t leaf;
   std::uint32_t first, count;  // into the block's loop_refs
+  /// A loop of 3 or 4 is triangulated flat (its triangles at this index of the block's tris) and
+  /// gets the centre only where the surface bulges away from them; longer loops always get it.
+  static constexpr std::uint32_t kAlways = 0xffffffffu;
+  std::uint32_t flat = kAlways;
 };
 
 // Output of one block of leaves.
 struct Block {
   std::vector<std::array<U64, 3>> tris;  // refs: edge ids, or kCentreFlag | local centre index
   std::vector<std::uint32_t> quads;      // tris[i], tris[i + 1] split a 4-loop along p0-p2
+  // Filled when vertices are placed: each centre's position and whether it is used.
+  std::vector<Vec3> centre_pos;
+  std::vector<std::uint8_t> centre_used;
   std::vector<Centre> centres;
   std::vector<U64> loop_refs;
   std::vector<std::uint32_t> unmeshed;  // leaves with no loop
@@ -418,23 +429,19 @@ class Extractor {
       }
       const std::size_t n = loop_.size();
       if (n < 3) continue;  // a pinch: the neighbours' triangles meet along this segment directly
-      if (n == 3) {
-        out.tris.push_back({loop_[0], loop_[1], loop_[2]});
-        continue;
-      }
-      if (n == 4) {  // two triangles; the shorter diagonal is chosen once vertices are placed
-        out.quads.push_back(static_cast<std::uint32_t>(out.tris.size()));
-        out.tris.push_back({loop_[0], loop_[1], loop_[2]});
-        out.tris.push_back({loop_[0], loop_[2], loop_[3]});
-        continue;
-      }
       const U64 centre = kCentreFlag | out.centres.size();
       out.centres.push_back(
           {li, static_cast<std::uint32_t>(out.loop_refs.size()), static_cast<std::uint32_t>(n)});
-      for (std::size_t j = 0; j < n; ++j) {
-        out.loop_refs.push_back(loop_[j]);
-        out.tris.push_back({centre, loop_[j], loop_[(j + 1) % n]});
+      for (std::size_t j = 0; j < n; ++j) out.loop_refs.push_back(loop_[j]);
+      if (n <= 4) {  // flat: one triangle, or two (the shorter diagonal is chosen once placed)
+        out.centres.back().flat = static_cast<std::uint32_t>(out.tris.size());
+        if (n == 4) out.quads.push_back(static_cast<std::uint32_t>(out.tris.size()));
+        out.tris.push_back({loop_[0], loop_[1], loop_[2]});
+        if (n == 4) out.tris.push_back({loop_[0], loop_[2], loop_[3]});
+        continue;
       }
+      for (std::size_t j = 0; j < n; ++j)
+        out.tris.push_back({centre, loop_[j], loop_[(j + 1) % n]});
     }
   }
 
@@ -702,10 +709,8 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     }
   }
   used_edge = {};
-  std::vector<std::size_t> centre_base(n_blocks + 1, 0);
   for (std::size_t b = 0; b < n_blocks; ++b) {
     const Block& bl = blocks[b];
-    centre_base[b + 1] = centre_base[b] + bl.centres.size();
     st.open_chains += bl.open_chains;
     for (std::uint32_t li : bl.unmeshed) {
       const Cell& c = enc.cells[li];
@@ -719,11 +724,14 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
   }
   st.meshed_leaves = n_leaves - st.unmeshed_possible - st.unmeshed_crossing;
   const std::size_t n_edge_vertices = edges.size();
-  const std::size_t n_vertices = n_edge_vertices + centre_base[n_blocks];
+  const Vec3 extent = enc.bounds.hi - enc.bounds.lo;
+  const double min_extent = std::min({extent.x, extent.y, extent.z});
+  std::size_t n_centres = 0;
+  for (const Block& bl : blocks) n_centres += bl.centres.size();
   TriangleSoup& soup = result.soup;
-  soup.vertices.resize(n_vertices);
+  soup.vertices.resize(n_edge_vertices);
   {
-    ProgressPhase phase(exec.progress, "mesh: vertices", n_vertices);
+    ProgressPhase phase(exec.progress, "mesh: vertices", n_edge_vertices + n_centres);
     exec.run([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_edge_vertices, 1024),
                         [&](const auto& r) {
@@ -752,16 +760,37 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
         NearestScope nearest;
         PointGradEval pg(tape);
-        const Block& bl = blocks[b];
+        Block& bl = blocks[b];
+        bl.centre_pos.resize(bl.centres.size());
+        bl.centre_used.assign(bl.centres.size(), 1);
         for (std::size_t ci = 0; ci < bl.centres.size(); ++ci) {
           const Centre& c = bl.centres[ci];
-          Vec3 p{};
-          for (std::uint32_t j = 0; j < c.count; ++j)
-            p = p + soup.vertices[vertex_of(bl.loop_refs[c.first + j])];
+          // The loop's centroid, and twice its vector area (relative to its first vertex, so
+          // that it does not cancel far from the origin).
+          const Vec3 v0 = soup.vertices[vertex_of(bl.loop_refs[c.first])];
+          Vec3 p = v0, area{};
+          for (std::uint32_t j = 1; j < c.count; ++j) {
+            const Vec3 v = soup.vertices[vertex_of(bl.loop_refs[c.first + j])];
+            p = p + v;
+            if (j + 1 < c.count) {
+              area = area +
+                     cross(v - v0, soup.vertices[vertex_of(bl.loop_refs[c.first + j + 1])] - v0);
+            }
+          }
           p = p / double(c.count);
+          const Vec3 centroid = p;
+          // The tolerance of a flat loop, from the leaf's shortest edge (to rounding).
+          const double tol =
+              settings.flat_tolerance * std::ldexp(min_extent, -int(enc.cells[c.leaf].depth));
+          PGrad f = pg.eval(p);
+          if (c.flat != Centre::kAlways && std::fabs(f.v) <= 0.5 * tol * std::sqrt(dot(f.g, f.g))) {
+            // The first Newton step, the longest, would move less than half the tolerance: the
+            // loop stays flat without pulling its centre.
+            bl.centre_used[ci] = 0;
+            continue;
+          }
           // Pull the centre onto the surface with Newton steps, staying inside its leaf.
           const Box3 box = enc.box(enc.cells[c.leaf]);
-          PGrad f = pg.eval(p);
           for (int s = 0; s < settings.centre_steps && std::isfinite(f.v) && f.v != 0; ++s) {
             const double g2 = dot(f.g, f.g);
             if (!(g2 > 0) || !std::isfinite(g2)) break;
@@ -771,31 +800,79 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
             if (!(std::fabs(fq.v) < std::fabs(f.v))) break;
             p = q, f = fq;
           }
-          soup.vertices[n_edge_vertices + centre_base[b] + ci] = p;
+          bl.centre_pos[ci] = p;
+          if (c.flat != Centre::kAlways) {
+            // The flat loop stays flat unless the surface at the centre lies farther than
+            // flat_tolerance (of the leaf's shortest edge) from the loop's mean plane.
+            const double a2 = dot(area, area);
+            const double off = dot(p - centroid, area);
+            bl.centre_used[ci] = a2 > 0 && off * off > tol * tol * a2;
+          }
         }
         phase.advance(bl.centres.size());
       });
-      // Triangles with final vertex numbers.
+      // Centre vertices after the edge vertices, in block order.
+      std::vector<std::size_t> centre_base(n_blocks + 1, 0);
+      for (std::size_t b = 0; b < n_blocks; ++b) {
+        std::size_t used = 0;
+        for (std::uint8_t u : blocks[b].centre_used) used += u;
+        centre_base[b + 1] = centre_base[b] + used;
+      }
+      soup.vertices.resize(n_edge_vertices + centre_base[n_blocks]);
       std::vector<std::size_t> tri_base(n_blocks + 1, 0);
-      for (std::size_t b = 0; b < n_blocks; ++b)
-        tri_base[b + 1] = tri_base[b] + blocks[b].tris.size();
+      for (std::size_t b = 0; b < n_blocks; ++b) {
+        Block& bl = blocks[b];
+        std::size_t added = 0;  // a centred loop of n has n triangles where flat it had n - 2
+        for (std::size_t ci = 0, k = 0; ci < bl.centres.size(); ++ci) {
+          if (!bl.centre_used[ci]) continue;
+          soup.vertices[n_edge_vertices + centre_base[b] + k++] = bl.centre_pos[ci];
+          if (bl.centres[ci].flat != Centre::kAlways) added += 2;
+        }
+        st.bent_loops += added / 2;
+        tri_base[b + 1] = tri_base[b] + bl.tris.size() + added;
+      }
+      // Triangles with final vertex numbers: the block's triangles in order, a centred flat
+      // loop's fan in place of its flat triangles.
       soup.triangles.resize(tri_base[n_blocks]);
       tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
         const Block& bl = blocks[b];
+        // Final number of each centre (among the used ones), and where each flat triangle went.
+        std::vector<std::uint32_t> number_of(bl.centres.size());
+        std::vector<std::uint8_t> replaced(bl.tris.size(), 0);
+        for (std::size_t ci = 0, k = 0; ci < bl.centres.size(); ++ci) {
+          if (!bl.centre_used[ci]) continue;
+          number_of[ci] = static_cast<std::uint32_t>(n_edge_vertices + centre_base[b] + k++);
+          const Centre& c = bl.centres[ci];
+          if (c.flat != Centre::kAlways) {
+            for (std::uint32_t t = 0; t + 2 < c.count; ++t) replaced[c.flat + t] = 1;
+          }
+        }
+        std::vector<std::uint32_t> placed(bl.tris.size());
+        std::size_t out = tri_base[b];
         for (std::size_t t = 0; t < bl.tris.size(); ++t) {
+          if (replaced[t]) continue;
           std::array<std::uint32_t, 3> tri{};
           for (int k = 0; k < 3; ++k) {
             const U64 r = bl.tris[t][std::size_t(k)];
-            const std::size_t v = (r & kCentreFlag)
-                                      ? n_edge_vertices + centre_base[b] + (r & ~kCentreFlag)
-                                      : vertex_of(r);
-            tri[std::size_t(k)] = static_cast<std::uint32_t>(v);
+            tri[std::size_t(k)] = (r & kCentreFlag) ? number_of[r & ~kCentreFlag]
+                                                    : static_cast<std::uint32_t>(vertex_of(r));
           }
-          soup.triangles[tri_base[b] + t] = tri;
+          placed[t] = static_cast<std::uint32_t>(out);
+          soup.triangles[out++] = tri;
+        }
+        for (std::size_t ci = 0; ci < bl.centres.size(); ++ci) {
+          const Centre& c = bl.centres[ci];
+          if (!bl.centre_used[ci] || c.flat == Centre::kAlways) continue;
+          for (std::uint32_t j = 0; j < c.count; ++j) {
+            soup.triangles[out++] = {
+                number_of[ci], static_cast<std::uint32_t>(vertex_of(bl.loop_refs[c.first + j])),
+                static_cast<std::uint32_t>(vertex_of(bl.loop_refs[c.first + (j + 1) % c.count]))};
+          }
         }
         for (std::uint32_t q : bl.quads) {
-          auto& t0 = soup.triangles[tri_base[b] + q];
-          auto& t1 = soup.triangles[tri_base[b] + q + 1];
+          if (replaced[q]) continue;
+          auto& t0 = soup.triangles[placed[q]];
+          auto& t1 = soup.triangles[placed[q] + 1];
           const std::uint32_t p0 = t0[0], p1 = t0[1], p2 = t0[2], p3 = t1[2];
           const Vec3 d02 = soup.vertices[p2] - soup.vertices[p0];
           const Vec3 d13 = soup.vertices[p3] - soup.vertices[p1];

@@ -7,11 +7,12 @@
 // of the point); each face of a leaf is cut into the faces of the finer leaf on either side, and
 // every edge into the corners of all leaves that touch it; on every such polygon the crossings of
 // the zero set (proved sign changes) are paired, and within a leaf the pairs link into closed
-// loops, each triangulated by a fan around a point pulled onto the surface. Two leaves that share
-// a face see the same polygons and the same crossings, so the mesh has no cracks between levels;
-// crossings are keyed by their grid edge, so vertices are welded; segments are oriented with the
-// negative side of f on their left, so triangles are consistently oriented (normals towards
-// increasing f) and every mesh edge inside the bounds has exactly two triangles.
+// loops, each triangulated by a fan around a point pulled onto the surface (a loop of 3 or 4 by one
+// or two flat triangles instead, unless the surface bends away from them: flat_tolerance). Two
+// leaves that share a face see the same polygons and the same crossings, so the mesh has no cracks
+// between levels; crossings are keyed by their grid edge, so vertices are welded; segments are
+// oriented with the negative side of f on their left, so triangles are consistently oriented
+// (normals towards increasing f) and every mesh edge inside the bounds has exactly two triangles.
 //
 // No global sign convention is assumed: a region is meshed where a sign change is proved. Leaves
 // whose boundary shows no sign change (e.g. where f touches 0 without changing sign) are not
@@ -36,6 +37,11 @@ struct OctreeMeshSettings {
   int edge_steps = 8;
   /// Newton steps that pull each loop's centre vertex onto the surface (kept inside its leaf).
   int centre_steps = 3;
+  /// A loop of 3 or 4 crossings is one or two flat triangles unless the surface, at the point its
+  /// centre is pulled to, lies farther than this fraction of the leaf's shortest edge from the
+  /// loop's mean plane (where the surface turns sharply inside the leaf, as at the rim of a thin
+  /// blade): then it is a fan around that point, like longer loops.
+  double flat_tolerance = 0.02;
 
   /// Finest grid level the mesher supports (depth + refine_possible).
   static constexpr int kMaxLevel = 20;
@@ -55,6 +61,7 @@ struct OctreeMeshStats {
   std::uint64_t known_points = 0;       ///< of those, signs proved by the enclosure's leaves
   std::uint64_t uncertain_points = 0;   ///< points whose sign intervals could not decide
   std::uint64_t open_chains = 0;        ///< segment chains that did not close (must be 0)
+  std::uint64_t bent_loops = 0;         ///< loops of 3 or 4 given a centre vertex (flat_tolerance)
   std::uint64_t evaluations = 0;        ///< interval evaluations (enclosure + point signs)
   int finest_level = 0;                 ///< deepest leaf
   /// Wall time of the phases: grid points and signs, loop extraction, vertex placement.

@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
+#include "expr/eval_point_grad.h"
 #include "mesh/mesh_report.h"
 #include "mesh/mesh_test_util.h"
 
@@ -111,6 +113,45 @@ TEST(OctreeMesher, RefinementReachesThinFeatures) {
   EXPECT_NEAR(r.area, area, 0.1 * area);
 }
 
+// Largest first-order distance |f| / |grad f| from the surface over the triangles' centroids.
+double max_centroid_distance(const Tape& tape, const TriangleSoup& soup) {
+  PointGradEval pg(tape);
+  double worst = 0;
+  for (const auto& t : soup.triangles) {
+    const Vec3 c = (soup.vertices[t[0]] + soup.vertices[t[1]] + soup.vertices[t[2]]) / 3.0;
+    const PGrad f = pg.eval(c);
+    worst = std::max(worst, std::fabs(f.v) / std::sqrt(dot(f.g, f.g)));
+  }
+  return worst;
+}
+
+TEST(OctreeMesher, LoopsWhereTheSurfaceBendsGetACentreVertex) {
+  // A thin disc (radius 0.7, half thickness 0.028): its rim turns through 180 degrees within
+  // leaves 0.03 wide, where one or two flat triangles per loop cut it back.
+  const Tape tape = Tape::parse("x^2 + y^2 + (z/0.04)^2 - 0.49");
+  const Enclosure enc = test::local_enclose(tape, kCube, 6, 2);
+  OctreeMeshSettings flat = settings_for(kCube), all = settings_for(kCube);
+  flat.flat_tolerance = 1;  // no leaf bends that far: loops of 3 and 4 stay flat
+  all.flat_tolerance = 0;   // every loop gets a centre
+  const OctreeMesh m_flat = extract_mesh(tape, enc, flat);
+  const OctreeMesh m_all = extract_mesh(tape, enc, all);
+  const OctreeMesh m = extract_mesh(tape, enc, settings_for(kCube));
+  EXPECT_EQ(m_flat.stats.bent_loops, 0u);
+  EXPECT_GT(m.stats.bent_loops, 0u);
+  EXPECT_EQ(m.soup.triangles.size(), m_flat.soup.triangles.size() + 2 * m.stats.bent_loops);
+  const MeshReport r = analyze_mesh(m.soup, &tape, &enc);
+  expect_watertight(r);
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.outside_enclosure, 0);
+  // The default gets (to 5%) what centring every loop gets, at a fraction of its triangles.
+  const double d_flat = max_centroid_distance(tape, m_flat.soup);
+  const double d_all = max_centroid_distance(tape, m_all.soup);
+  const double d = max_centroid_distance(tape, m.soup);
+  EXPECT_LT(d, 0.8 * d_flat) << "flat " << d_flat << ", default " << d;
+  EXPECT_LE(d, 1.05 * d_all) << "all centred " << d_all << ", default " << d;
+  EXPECT_LT(m.soup.triangles.size(), m_all.soup.triangles.size() * 3 / 5);
+}
+
 TEST(OctreeMesher, NoSignChangeMeansNothingMeshedButReported) {
   const Tape tape = Tape::parse("(x^2 + y^2 + z^2 - 0.5)^2");
   const Enclosure enc = test::local_enclose(tape, kCube, 4, 1);
@@ -139,6 +180,11 @@ TEST(OctreeMesher, SettingsAreValidated) {
   OctreeMeshSettings s = settings_for(kCube);
   s.enclose.depth = 15;
   s.enclose.refine_possible = 8;
+  EXPECT_THROW(s.validate(), SettingError);
+  s = settings_for(kCube);
+  s.flat_tolerance = -0.1;
+  EXPECT_THROW(s.validate(), SettingError);
+  s.flat_tolerance = std::nan("");
   EXPECT_THROW(s.validate(), SettingError);
 }
 

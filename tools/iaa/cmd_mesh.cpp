@@ -139,6 +139,11 @@ void setup(CLI::App& app) {
   app.add_option("--depth", o->p.depth, "octree: leaf depth (overrides --resolution)");
   app.add_option("--refine", o->p.refine, "octree: extra levels for possible leaves (0..8)")
       ->capture_default_str();
+  app.add_option("--flat-tolerance", o->p.flat_tolerance,
+                 "octree: a loop of 3 or 4 crossings gets a centre vertex on the surface where "
+                 "the surface lies farther than this fraction of the leaf's edge from the loop's "
+                 "plane (0..1; 0: every loop, 1: none)")
+      ->capture_default_str();
   app.add_option("--max-boxes", o->p.max_boxes, "octree: limit on enclosure leaves")
       ->capture_default_str();
   app.add_option("--facet-size", o->p.facet_size,

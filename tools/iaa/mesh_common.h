@@ -114,6 +114,7 @@ struct MeshParams {
   int resolution = 256;
   int depth = 0;   ///< octree depth; 0: from resolution
   int refine = 4;  ///< octree: extra levels for possible leaves
+  double flat_tolerance = OctreeMeshSettings{}.flat_tolerance;  ///< octree: see the setting
   std::uint64_t max_boxes = EncloseSettings{}.max_boxes;
   double facet_size = 0;      ///< cgal; 0: from resolution
   double facet_distance = 0;  ///< cgal; 0: facet_size / 4
@@ -144,6 +145,10 @@ struct MeshParams {
           "--facet-size and --facet-distance must be positive lengths (0: automatic)");
     }
     if (grid < 0) throw SettingError("--grid must be in 2..2048 (0: from --resolution)");
+    if (!(flat_tolerance >= 0 && flat_tolerance <= 1)) {
+      throw SettingError("--flat-tolerance must be in 0..1 (a fraction of the leaf's edge), got " +
+                         std::to_string(flat_tolerance));
+    }
   }
 };
 
@@ -169,6 +174,7 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
   if (m == Method::kOctree) {
     OctreeMeshSettings os;
     os.enclose = p.enclose_settings(s.bounds);
+    os.flat_tolerance = p.flat_tolerance;
     os.validate();
     Enclosure enc = enclose(*s.tape, os.enclose, exec);
     const double enclose_seconds = seconds_since(t0);
@@ -178,6 +184,7 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
     const OctreeMeshStats& st = om.stats;
     run.details = {{"depth", os.enclose.depth},
                    {"refine_possible", os.enclose.refine_possible},
+                   {"flat_tolerance", os.flat_tolerance},
                    {"leaves", st.leaves},
                    {"crossing_leaves", st.crossing_leaves},
                    {"possible_leaves", st.possible_leaves},
@@ -187,6 +194,7 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
                    {"sample_points", st.sample_points},
                    {"uncertain_points", st.uncertain_points},
                    {"open_chains", st.open_chains},
+                   {"bent_loops", st.bent_loops},
                    {"finest_level", st.finest_level},
                    {"seconds_enclose", enclose_seconds},
                    {"seconds_signs", st.seconds_signs},
