@@ -267,7 +267,11 @@ TEST(Compare, TeardropOctreeLosesFewerPixelsThanPeers) {
   std::uint64_t w1 = 0, w2 = 0, w3 = 0;
   const std::uint64_t ours = lost(mesh_octree(*scene.tape, os).soup, &w1);
   const std::uint64_t vtk = lost(viz::mesh_vtk(*scene.tape, vs), &w2, &vtk_wrong);
-  const std::uint64_t cgal = lost(mesh_cgal(*scene.tape, cs), &w3);
+  // Mesh_3 meshes in parallel, and with more than one thread its mesh depends on the threads'
+  // timing (seen: 1 wrong pixel in one run of many under load); with one it is reproducible.
+  Exec one_thread;
+  one_thread.threads = 1;
+  const std::uint64_t cgal = lost(mesh_cgal(*scene.tape, cs, one_thread), &w3);
   EXPECT_LT(ours, vtk);
   EXPECT_LT(ours, cgal);
   EXPECT_GT(vtk, 5u);
