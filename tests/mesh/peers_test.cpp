@@ -67,18 +67,26 @@ TEST(Peers, OctreeSphereAndTorusWithRealEnclosure) {
 }
 
 #ifdef IAA_HAVE_CGAL
+// Mesh_3 on one thread: with more, its mesh depends on the threads' timing; with one it is the
+// same in every run.
+Exec one_thread() {
+  Exec e;
+  e.threads = 1;
+  return e;
+}
+
 TEST(Peers, CgalSphereAndTorus) {
   CgalMeshSettings s;
   s.bounds = kCube;
   s.facet_size = 0.05;
   s.facet_distance = 0.005;
   const Tape sphere = Tape::parse(kSphere), torus = Tape::parse(kTorus);
-  const MeshReport a = analyze_mesh(mesh_cgal(sphere, s), &sphere);
+  const MeshReport a = analyze_mesh(mesh_cgal(sphere, s, one_thread()), &sphere);
   EXPECT_EQ(a.boundary_edges, 0u);
   EXPECT_EQ(a.euler, 2);
   EXPECT_NEAR(a.area, kSphereArea, 0.02 * kSphereArea);
   EXPECT_NEAR(a.volume, kSphereVolume, 0.02 * kSphereVolume);
-  const MeshReport b = analyze_mesh(mesh_cgal(torus, s), &torus);
+  const MeshReport b = analyze_mesh(mesh_cgal(torus, s, one_thread()), &torus);
   EXPECT_EQ(b.boundary_edges, 0u);
   EXPECT_EQ(b.euler, 0);
   EXPECT_NEAR(b.area, kTorusArea, 0.03 * kTorusArea);
@@ -92,7 +100,7 @@ TEST(Peers, CgalClipsUnboundedSurfacesToTheBounds) {
   s.facet_size = 0.05;
   s.facet_distance = 0.01;
   const Tape plane = Tape::parse("z - 0.1");
-  const MeshReport r = analyze_mesh(mesh_cgal(plane, s), &plane);
+  const MeshReport r = analyze_mesh(mesh_cgal(plane, s, one_thread()), &plane);
   // Mesh_3 does not protect the cut with the bounds: facets that reach across it are dropped,
   // so a ragged strip about one facet wide is missing along the border (perimeter 8).
   EXPECT_LE(r.area, 4.0 + 1e-9);
@@ -135,7 +143,7 @@ TEST(Peers, TeardropOctreeReachesNearerTheTipWithFewerTriangles) {
   cs.bounds = b;
   cs.facet_size = 2.1 / 96;
   cs.facet_distance = cs.facet_size / 4;
-  const TriangleSoup cgal = mesh_cgal(t, cs);
+  const TriangleSoup cgal = mesh_cgal(t, cs, one_thread());
   EXPECT_LT(ours.triangles.size(), vtk.triangles.size());
   EXPECT_LT(ours.triangles.size(), cgal.triangles.size());
   const double g = neck_gap(ours);
