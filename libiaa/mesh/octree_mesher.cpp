@@ -686,7 +686,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
   st.seconds_extract = since(t0);
   t0 = Clock::now();
   // Vertices: every crossing edge used, in sorted order (axis, then position: marked in a byte
-  // per grid edge, then collected in order), then the loop centres in block order.
+  // per grid edge, then collected in order), then the used loop centres in block order.
   std::array<std::vector<std::uint8_t>, 3> used_edge;
   for (int a = 0; a < 3; ++a) used_edge[std::size_t(a)].assign(g.lines[std::size_t(a)].size(), 0);
   exec.run([&] {
@@ -784,8 +784,8 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
               settings.flat_tolerance * std::ldexp(min_extent, -int(enc.cells[c.leaf].depth));
           PGrad f = pg.eval(p);
           if (c.flat != Centre::kAlways && std::fabs(f.v) <= 0.5 * tol * std::sqrt(dot(f.g, f.g))) {
-            // The first Newton step, the longest, would move less than half the tolerance: the
-            // loop stays flat without pulling its centre.
+            // The first Newton step (usually the longest) would move less than half the
+            // tolerance: the loop stays flat without pulling its centre.
             bl.centre_used[ci] = 0;
             continue;
           }
@@ -803,10 +803,18 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
           bl.centre_pos[ci] = p;
           if (c.flat != Centre::kAlways) {
             // The flat loop stays flat unless the surface at the centre lies farther than
-            // flat_tolerance (of the leaf's shortest edge) from the loop's mean plane.
+            // flat_tolerance (of the leaf's shortest edge) from the loop's mean plane, and every
+            // triangle of the fan faces the way the loop does (Newton steps, clamped to the
+            // leaf, can take the centre outside the loop's prism, where the fan would fold).
             const double a2 = dot(area, area);
             const double off = dot(p - centroid, area);
-            bl.centre_used[ci] = a2 > 0 && off * off > tol * tol * a2;
+            bool bent = a2 > 0 && off * off > tol * tol * a2;
+            for (std::uint32_t j = 0; bent && j < c.count; ++j) {
+              const Vec3 v = soup.vertices[vertex_of(bl.loop_refs[c.first + j])];
+              const Vec3 w = soup.vertices[vertex_of(bl.loop_refs[c.first + (j + 1) % c.count])];
+              bent = dot(cross(v - p, w - p), area) > 0;
+            }
+            bl.centre_used[ci] = bent;
           }
         }
         phase.advance(bl.centres.size());
@@ -828,11 +836,12 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
           soup.vertices[n_edge_vertices + centre_base[b] + k++] = bl.centre_pos[ci];
           if (bl.centres[ci].flat != Centre::kAlways) added += 2;
         }
+        std::vector<Vec3>().swap(bl.centre_pos);
         st.bent_loops += added / 2;
         tri_base[b + 1] = tri_base[b] + bl.tris.size() + added;
       }
       // Triangles with final vertex numbers: the block's triangles in order, a centred flat
-      // loop's fan in place of its flat triangles.
+      // loop's fan (instead of its flat triangles) after them.
       soup.triangles.resize(tri_base[n_blocks]);
       tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
         const Block& bl = blocks[b];
@@ -857,7 +866,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
             tri[std::size_t(k)] = (r & kCentreFlag) ? number_of[r & ~kCentreFlag]
                                                     : static_cast<std::uint32_t>(vertex_of(r));
           }
-          placed[t] = static_cast<std::uint32_t>(out);
+          placed[t] = static_cast<std::uint32_t>(out - tri_base[b]);
           soup.triangles[out++] = tri;
         }
         for (std::size_t ci = 0; ci < bl.centres.size(); ++ci) {
@@ -871,8 +880,8 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
         }
         for (std::uint32_t q : bl.quads) {
           if (replaced[q]) continue;
-          auto& t0 = soup.triangles[placed[q]];
-          auto& t1 = soup.triangles[placed[q] + 1];
+          auto& t0 = soup.triangles[tri_base[b] + placed[q]];
+          auto& t1 = soup.triangles[tri_base[b] + placed[q] + 1];
           const std::uint32_t p0 = t0[0], p1 = t0[1], p2 = t0[2], p3 = t1[2];
           const Vec3 d02 = soup.vertices[p2] - soup.vertices[p0];
           const Vec3 d13 = soup.vertices[p3] - soup.vertices[p1];

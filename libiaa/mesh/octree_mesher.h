@@ -40,7 +40,9 @@ struct OctreeMeshSettings {
   /// A loop of 3 or 4 crossings is one or two flat triangles unless the surface, at the point its
   /// centre is pulled to, lies farther than this fraction of the leaf's shortest edge from the
   /// loop's mean plane (where the surface turns sharply inside the leaf, as at the rim of a thin
-  /// blade): then it is a fan around that point, like longer loops.
+  /// blade) and the fan does not fold: then it is a fan around that point, like longer loops.
+  /// The point stays inside the leaf, so the distance is below sqrt(3) edges: 1 bends practically
+  /// no loop.
   double flat_tolerance = 0.02;
 
   /// Finest grid level the mesher supports (depth + refine_possible).

@@ -131,8 +131,8 @@ TEST(OctreeMesher, LoopsWhereTheSurfaceBendsGetACentreVertex) {
   const Tape tape = Tape::parse("x^2 + y^2 + (z/0.04)^2 - 0.49");
   const Enclosure enc = test::local_enclose(tape, kCube, 6, 2);
   OctreeMeshSettings flat = settings_for(kCube), all = settings_for(kCube);
-  flat.flat_tolerance = 1;  // no leaf bends that far: loops of 3 and 4 stay flat
-  all.flat_tolerance = 0;   // every loop gets a centre
+  flat.flat_tolerance = 1;  // practically no leaf bends that far: loops of 3 and 4 stay flat
+  all.flat_tolerance = 0;   // nearly every loop gets a centre
   const OctreeMesh m_flat = extract_mesh(tape, enc, flat);
   const OctreeMesh m_all = extract_mesh(tape, enc, all);
   const OctreeMesh m = extract_mesh(tape, enc, settings_for(kCube));
@@ -150,6 +150,21 @@ TEST(OctreeMesher, LoopsWhereTheSurfaceBendsGetACentreVertex) {
   EXPECT_LT(d, 0.8 * d_flat) << "flat " << d_flat << ", default " << d;
   EXPECT_LE(d, 1.05 * d_all) << "all centred " << d_all << ", default " << d;
   EXPECT_LT(m.soup.triangles.size(), m_all.soup.triangles.size() * 3 / 5);
+}
+
+TEST(OctreeMesher, LoopsOnASmoothSurfaceStayFlat) {
+  // A sphere of radius 0.5 in leaves 0.03 wide: a loop's chords lie at most ~0.016 of the leaf's
+  // edge from the surface, under the default tolerance; a finer tolerance bends some loops.
+  const Tape tape = Tape::parse("x^2 + y^2 + z^2 - 0.25");
+  const Enclosure enc = test::local_enclose(tape, kCube, 6, 0);
+  EXPECT_EQ(extract_mesh(tape, enc, settings_for(kCube)).stats.bent_loops, 0u);
+  OctreeMeshSettings fine = settings_for(kCube);
+  fine.flat_tolerance = 0.01;
+  const OctreeMesh m = extract_mesh(tape, enc, fine);
+  EXPECT_GT(m.stats.bent_loops, 0u);
+  const MeshReport r = analyze_mesh(m.soup, &tape, &enc);
+  expect_watertight(r);
+  EXPECT_EQ(r.euler, 2);
 }
 
 TEST(OctreeMesher, NoSignChangeMeansNothingMeshedButReported) {

@@ -39,6 +39,7 @@ void run(const Options& o) {
     throw SettingError("--runs must be in 1..50, got " + std::to_string(o.runs));
   if (o.image < 8 || o.image > 4000)
     throw SettingError("--image must be in 8..4000, got " + std::to_string(o.image));
+  o.p.validate();  // before the table's header
   std::vector<meshing::Method> methods;
   for (const std::string& m : o.methods) methods.push_back(meshing::parse_mesh_method(m));
   Exec exec;
@@ -168,6 +169,9 @@ void setup(CLI::App& app) {
   app.add_option("--resolution", o->p.resolution, "grid resolution shared by the meshers")
       ->capture_default_str();
   app.add_option("--refine", o->p.refine, "octree: extra levels for possible leaves")
+      ->capture_default_str();
+  app.add_option("--flat-tolerance", o->p.flat_tolerance,
+                 "octree: bend (of the leaf's edge) above which a loop of 3 or 4 gets a centre")
       ->capture_default_str();
   app.add_option("--image", o->image, "image size (square) of the compared views")
       ->capture_default_str();

@@ -142,7 +142,7 @@ void setup(CLI::App& app) {
   app.add_option("--flat-tolerance", o->p.flat_tolerance,
                  "octree: a loop of 3 or 4 crossings gets a centre vertex on the surface where "
                  "the surface lies farther than this fraction of the leaf's edge from the loop's "
-                 "plane (0..1; 0: every loop, 1: none)")
+                 "plane (0..1; 0: nearly every loop, 1: practically none)")
       ->capture_default_str();
   app.add_option("--max-boxes", o->p.max_boxes, "octree: limit on enclosure leaves")
       ->capture_default_str();
