@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -119,20 +120,28 @@ void run(const BenchRenderOptions& o) {
     ref_st.method = RenderMethod::kGrid;
     ref_st.grid_n = o.ref_grid;
     const Film ref = render(scene, ref_st, exec);
-    std::vector<MethodRow> rows;
-    for (RenderMethod m : {RenderMethod::kIaa, RenderMethod::kAdaptive, RenderMethod::kPoint}) {
-      RenderSettings st = scene.settings;
-      st.method = m;
-      std::vector<double> times;
-      Film f;
-      for (int r = 0; r < o.runs; ++r) {
-        f = render(scene, st, exec);
-        times.push_back(f.seconds);
+    // The methods take turns, run after run, so that a change of the machine's load during the
+    // benchmark weighs on all of them alike (and on their ratios as little as possible).
+    constexpr RenderMethod kMethods[] = {RenderMethod::kIaa, RenderMethod::kAdaptive,
+                                         RenderMethod::kPoint};
+    constexpr std::size_t kN = std::size(kMethods);
+    std::vector<double> times[kN];
+    Film films[kN];
+    for (int r = 0; r < o.runs; ++r) {
+      for (std::size_t i = 0; i < kN; ++i) {
+        RenderSettings st = scene.settings;
+        st.method = kMethods[i];
+        films[i] = render(scene, st, exec);
+        times[i].push_back(films[i].seconds);
       }
-      std::sort(times.begin(), times.end());
+    }
+    std::vector<MethodRow> rows;
+    for (std::size_t i = 0; i < kN; ++i) {
+      std::sort(times[i].begin(), times[i].end());
+      const Film& f = films[i];
       MethodRow row;
-      row.method = std::string(method_name(m));
-      row.median_s = times[times.size() / 2];
+      row.method = std::string(method_name(kMethods[i]));
+      row.median_s = times[i][times[i].size() / 2];
       const double px = double(f.stats.pixels);
       row.evals_px = double(f.stats.evals) / px;
       row.leaves_px = double(f.stats.leaves) / px;
@@ -185,7 +194,9 @@ void setup(CLI::App& app) {
                  "directory of the scene files (default: data/scenes in the working directory, "
                  "else in the source tree above the executable)");
   app.add_option("--size", o->size, "image edge in pixels (default 500)");
-  app.add_option("--runs", o->runs, "runs per method; the median time is reported (default 3)");
+  app.add_option(
+      "--runs", o->runs,
+      "runs per method, the methods taking turns; the median time is reported (default 3)");
   app.add_option("--threads", o->threads, "worker threads (0 = all cores)");
   app.add_option("--ref-grid", o->ref_grid, "rays per pixel side of the reference (default 16)");
   app.add_option("--set", o->sets, "override a scene key for every scene, KEY=VALUE (repeatable)");
