@@ -313,6 +313,15 @@ inline Interval scale(const Interval& a, double c) {
   return Interval::raw(-((-l) * c), h * c);
 }
 
+/// a / c for a finite non-zero number c (a constant of the expression): two divisions, no tests;
+/// the same bounds as divide(a, Interval(c)). Empty and unbounded a behave as in scale().
+inline Interval div_const(const Interval& a, double c) {
+  IAA_ASSERT_UPWARD();
+  assert(std::isfinite(c) && c != 0.0);
+  const double l = c > 0.0 ? a.lo() : a.hi(), h = c > 0.0 ? a.hi() : a.lo();
+  return Interval::raw(-((-l) / c), h / c);
+}
+
 /// Division reporting kPartial when the divisor contains 0 (a pole or an undefined point).
 /// A divisor that excludes 0 (e.g. a constant) takes the inline path: two divisions.
 inline Interval divide(const Interval& a, const Interval& b, Domain* dom) {

@@ -19,10 +19,7 @@ struct IntervalRules {
   static Interval sub(const Interval& a, const Interval& b) { return a - b; }
   static Interval mul(const Interval& a, const Interval& b) { return a * b; }
   static Interval scale(const Interval& a, double c) { return iaa::scale(a, c); }
-  static Interval div_const(const Interval& a, double c) {
-    Domain d = Domain::kFull;  // c is finite and non-zero: never partial
-    return divide(a, Interval(c), &d);
-  }
+  static Interval div_const(const Interval& a, double c) { return iaa::div_const(a, c); }
   static Interval div(const Interval& a, const Interval& b, Domain* d) { return divide(a, b, d); }
   static Interval neg(const Interval& a) { return -a; }
   static Interval pow_int(const Interval& a, int n) { return iaa::pow_int(a, n); }

@@ -104,10 +104,8 @@ struct IntervalGradRules {
   }
   // (a/c)' = a' / c for a finite non-zero constant c.
   static IGrad div_const(const IGrad& a, double c, VarMask m) {
-    Domain d = Domain::kFull;
-    const Interval ci(c);
-    return {divide(a.v, ci, &d),
-            igrad::each(m, [&](std::size_t i) { return divide(a.g[i], ci, &d); })};
+    return {iaa::div_const(a.v, c),
+            igrad::each(m, [&](std::size_t i) { return iaa::div_const(a.g[i], c); })};
   }
   static IGrad div(const IGrad& a, const IGrad& b, Domain* d, VarMask m) {
     const Interval v = divide(a.v, b.v, d);

@@ -85,6 +85,25 @@ TEST_F(IntervalTest, DivisionByIntervalsThatExcludeZero) {
   EXPECT_LT(third.lo(), third.hi());
 }
 
+TEST_F(IntervalTest, DivisionByAConstantIsDivisionByItsPoint) {
+  // div_const (the tape's `divc`) gives the very bounds of the general division by [c, c].
+  const double cs[] = {3, -3, 0.03, -1e-300, 1e300, DBL_MIN};
+  const Interval as[] = {Interval(-1, 2),     Interval(1),
+                         Interval(-kInf, 2),  Interval(-2, kInf),
+                         Interval::whole(),   Interval(1e-310, 1e308),
+                         Interval(-0.0, 0.0), Interval(-DBL_MAX, -1e-300)};
+  for (double c : cs) {
+    for (const Interval& a : as) {
+      const Interval q = div_const(a, c), r = a / Interval(c);
+      EXPECT_EQ(q.lo(), r.lo()) << a.lo() << " " << a.hi() << " / " << c;
+      EXPECT_EQ(q.hi(), r.hi()) << a.lo() << " " << a.hi() << " / " << c;
+    }
+    EXPECT_TRUE(div_const(Interval::empty(), c).is_empty());
+  }
+  const Interval third = div_const(Interval(1), 3);
+  EXPECT_LT(third.lo(), third.hi());
+}
+
 TEST_F(IntervalTest, DomainErrorsClampAndReport) {
   EXPECT_EQ(sqrt(Interval(-1, 4), &dom_), Interval(0, 2));
   EXPECT_EQ(dom_, Domain::kPartial);
