@@ -250,9 +250,11 @@ struct Centre {
 struct Block {
   std::vector<std::array<U64, 3>> tris;  // refs: edge ids, or kCentreFlag | local centre index
   std::vector<std::uint32_t> quads;      // tris[i], tris[i + 1] split a 4-loop along p0-p2
-  // Filled when vertices are placed: each centre's position and whether it is used.
+  // Filled when vertices are placed: each centre's position, and its vertex number (kNoVertex
+  // for the centre of a loop that stays flat; kPending until the used centres are numbered).
+  static constexpr std::uint32_t kNoVertex = 0xffffffffu, kPending = 0xfffffffeu;
   std::vector<Vec3> centre_pos;
-  std::vector<std::uint8_t> centre_used;
+  std::vector<std::uint32_t> centre_vertex;
   std::vector<Centre> centres;
   std::vector<U64> loop_refs;
   std::vector<std::uint32_t> unmeshed;  // leaves with no loop
@@ -757,24 +759,27 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       auto vertex_of = [&](U64 r) -> std::size_t {
         return number[std::size_t(r >> 40)][r & ((U64{1} << 40) - 1)];
       };
+      // Vertex number of crossing j (mod the loop's length) of a loop.
+      auto loop_vertex = [&](const Block& bl, const Centre& c, std::uint32_t j) {
+        return static_cast<std::uint32_t>(vertex_of(bl.loop_refs[c.first + j % c.count]));
+      };
       tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
         NearestScope nearest;
         PointGradEval pg(tape);
         Block& bl = blocks[b];
         bl.centre_pos.resize(bl.centres.size());
-        bl.centre_used.assign(bl.centres.size(), 1);
+        bl.centre_vertex.assign(bl.centres.size(), Block::kPending);
         for (std::size_t ci = 0; ci < bl.centres.size(); ++ci) {
           const Centre& c = bl.centres[ci];
           // The loop's centroid, and twice its vector area (relative to its first vertex, so
           // that it does not cancel far from the origin).
-          const Vec3 v0 = soup.vertices[vertex_of(bl.loop_refs[c.first])];
+          const Vec3 v0 = soup.vertices[loop_vertex(bl, c, 0)];
           Vec3 p = v0, area{};
           for (std::uint32_t j = 1; j < c.count; ++j) {
-            const Vec3 v = soup.vertices[vertex_of(bl.loop_refs[c.first + j])];
+            const Vec3 v = soup.vertices[loop_vertex(bl, c, j)];
             p = p + v;
             if (j + 1 < c.count) {
-              area = area +
-                     cross(v - v0, soup.vertices[vertex_of(bl.loop_refs[c.first + j + 1])] - v0);
+              area = area + cross(v - v0, soup.vertices[loop_vertex(bl, c, j + 1)] - v0);
             }
           }
           p = p / double(c.count);
@@ -786,7 +791,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
           if (c.flat != Centre::kAlways && std::fabs(f.v) <= 0.5 * tol * std::sqrt(dot(f.g, f.g))) {
             // The first Newton step (usually the longest) would move less than half the
             // tolerance: the loop stays flat without pulling its centre.
-            bl.centre_used[ci] = 0;
+            bl.centre_vertex[ci] = Block::kNoVertex;
             continue;
           }
           // Pull the centre onto the surface with Newton steps, staying inside its leaf.
@@ -810,51 +815,44 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
             const double off = dot(p - centroid, area);
             bool bent = a2 > 0 && off * off > tol * tol * a2;
             for (std::uint32_t j = 0; bent && j < c.count; ++j) {
-              const Vec3 v = soup.vertices[vertex_of(bl.loop_refs[c.first + j])];
-              const Vec3 w = soup.vertices[vertex_of(bl.loop_refs[c.first + (j + 1) % c.count])];
+              const Vec3 v = soup.vertices[loop_vertex(bl, c, j)];
+              const Vec3 w = soup.vertices[loop_vertex(bl, c, j + 1)];
               bent = dot(cross(v - p, w - p), area) > 0;
             }
-            bl.centre_used[ci] = bent;
+            if (!bent) bl.centre_vertex[ci] = Block::kNoVertex;
           }
         }
         phase.advance(bl.centres.size());
       });
-      // Centre vertices after the edge vertices, in block order.
-      std::vector<std::size_t> centre_base(n_blocks + 1, 0);
-      for (std::size_t b = 0; b < n_blocks; ++b) {
-        std::size_t used = 0;
-        for (std::uint8_t u : blocks[b].centre_used) used += u;
-        centre_base[b + 1] = centre_base[b] + used;
-      }
-      soup.vertices.resize(n_edge_vertices + centre_base[n_blocks]);
+      // The used centres' vertices after the edge vertices, in block order.
+      soup.vertices.resize(n_edge_vertices + n_centres);  // cut to the used ones below
+      std::size_t next = n_edge_vertices;
       std::vector<std::size_t> tri_base(n_blocks + 1, 0);
       for (std::size_t b = 0; b < n_blocks; ++b) {
         Block& bl = blocks[b];
         std::size_t added = 0;  // a centred loop of n has n triangles where flat it had n - 2
-        for (std::size_t ci = 0, k = 0; ci < bl.centres.size(); ++ci) {
-          if (!bl.centre_used[ci]) continue;
-          soup.vertices[n_edge_vertices + centre_base[b] + k++] = bl.centre_pos[ci];
+        for (std::size_t ci = 0; ci < bl.centres.size(); ++ci) {
+          if (bl.centre_vertex[ci] == Block::kNoVertex) continue;
+          bl.centre_vertex[ci] = static_cast<std::uint32_t>(next);
+          soup.vertices[next++] = bl.centre_pos[ci];
           if (bl.centres[ci].flat != Centre::kAlways) added += 2;
         }
         std::vector<Vec3>().swap(bl.centre_pos);
         st.bent_loops += added / 2;
         tri_base[b + 1] = tri_base[b] + bl.tris.size() + added;
       }
+      soup.vertices.resize(next);
       // Triangles with final vertex numbers: the block's triangles in order, a centred flat
       // loop's fan (instead of its flat triangles) after them.
       soup.triangles.resize(tri_base[n_blocks]);
       tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
         const Block& bl = blocks[b];
-        // Final number of each centre (among the used ones), and where each flat triangle went.
-        std::vector<std::uint32_t> number_of(bl.centres.size());
+        // The flat triangles that a fan replaces, and where each kept triangle went.
         std::vector<std::uint8_t> replaced(bl.tris.size(), 0);
-        for (std::size_t ci = 0, k = 0; ci < bl.centres.size(); ++ci) {
-          if (!bl.centre_used[ci]) continue;
-          number_of[ci] = static_cast<std::uint32_t>(n_edge_vertices + centre_base[b] + k++);
+        for (std::size_t ci = 0; ci < bl.centres.size(); ++ci) {
           const Centre& c = bl.centres[ci];
-          if (c.flat != Centre::kAlways) {
-            for (std::uint32_t t = 0; t + 2 < c.count; ++t) replaced[c.flat + t] = 1;
-          }
+          if (bl.centre_vertex[ci] == Block::kNoVertex || c.flat == Centre::kAlways) continue;
+          for (std::uint32_t t = 0; t + 2 < c.count; ++t) replaced[c.flat + t] = 1;
         }
         std::vector<std::uint32_t> placed(bl.tris.size());
         std::size_t out = tri_base[b];
@@ -863,7 +861,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
           std::array<std::uint32_t, 3> tri{};
           for (int k = 0; k < 3; ++k) {
             const U64 r = bl.tris[t][std::size_t(k)];
-            tri[std::size_t(k)] = (r & kCentreFlag) ? number_of[r & ~kCentreFlag]
+            tri[std::size_t(k)] = (r & kCentreFlag) ? bl.centre_vertex[r & ~kCentreFlag]
                                                     : static_cast<std::uint32_t>(vertex_of(r));
           }
           placed[t] = static_cast<std::uint32_t>(out - tri_base[b]);
@@ -871,11 +869,10 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
         }
         for (std::size_t ci = 0; ci < bl.centres.size(); ++ci) {
           const Centre& c = bl.centres[ci];
-          if (!bl.centre_used[ci] || c.flat == Centre::kAlways) continue;
+          if (bl.centre_vertex[ci] == Block::kNoVertex || c.flat == Centre::kAlways) continue;
           for (std::uint32_t j = 0; j < c.count; ++j) {
-            soup.triangles[out++] = {
-                number_of[ci], static_cast<std::uint32_t>(vertex_of(bl.loop_refs[c.first + j])),
-                static_cast<std::uint32_t>(vertex_of(bl.loop_refs[c.first + (j + 1) % c.count]))};
+            soup.triangles[out++] = {bl.centre_vertex[ci], loop_vertex(bl, c, j),
+                                     loop_vertex(bl, c, j + 1)};
           }
         }
         for (std::uint32_t q : bl.quads) {
