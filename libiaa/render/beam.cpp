@@ -417,13 +417,17 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
   };
   Piece cur[kMaxPieces], next[kMaxPieces];
   int n = 0;
-  const double tm = 0.5 * (s.t_near + s.t_far);
-  if (tm > s.t_near && tm < s.t_far) {
-    cur[n++] = {s.t_near, tm};
-    cur[n++] = {tm, s.t_far};
-  } else {
-    cur[n++] = {s.t_near, s.t_far};
-  }
+  // Appends the halves of p to cur (p itself when it has no double strictly inside).
+  const auto push_halves = [&](const Piece& p) {
+    const double mid = 0.5 * (p.t0 + p.t1);
+    if (mid > p.t0 && mid < p.t1) {
+      cur[n++] = {p.t0, mid};
+      cur[n++] = {mid, p.t1};
+    } else {
+      cur[n++] = p;
+    }
+  };
+  push_halves({s.t_near, s.t_far});
   const int most = std::min(pieces, kMaxPieces);
   for (int width = 2;; width *= 2) {
     // Evaluate this level front to back until the hull is too wide; what is left (and the kept
@@ -454,16 +458,7 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
     if (!decided_wide) return out.is_empty() ? Interval::whole() : out;
     // Halve the pieces that are left.
     n = 0;
-    for (int k = 0; k < m; ++k) {
-      const Piece p = next[k];
-      const double mid = 0.5 * (p.t0 + p.t1);
-      if (mid > p.t0 && mid < p.t1) {
-        cur[n++] = {p.t0, mid};
-        cur[n++] = {mid, p.t1};
-      } else {
-        cur[n++] = p;
-      }
-    }
+    for (int k = 0; k < m; ++k) push_halves(next[k]);
   }
 }
 
