@@ -40,11 +40,11 @@ struct IntervalRules {
   static Interval abs(const Interval& a) { return iaa::abs(a); }
   // min/max also record which argument is certainly taken (1 or 2), for Tape::simplify.
   static Interval min(const Interval& a, const Interval& b, std::uint8_t* c) {
-    *c = a.hi() <= b.lo() ? 1 : (b.hi() <= a.lo() ? 2 : 0);
+    *c = min_choice(a, b);
     return iaa::min(a, b);
   }
   static Interval max(const Interval& a, const Interval& b, std::uint8_t* c) {
-    *c = a.lo() >= b.hi() ? 1 : (b.lo() >= a.hi() ? 2 : 0);
+    *c = max_choice(a, b);
     return iaa::max(a, b);
   }
 };

@@ -78,7 +78,7 @@ inline G dquot(const G& g, const Interval& den, VarMask m) {
 // argument's component outside the argument's own mask reads as that exact 0.
 struct IntervalGradRules {
   using Num = IGrad;
-  static constexpr bool kTracksChoices = false;
+  static constexpr bool kTracksChoices = true;
   static constexpr bool kUsesVarMasks = true;
   static IGrad constant(double v) {
     return {Interval(v), {Interval(0.0), Interval(0.0), Interval(0.0)}};
@@ -167,14 +167,17 @@ struct IntervalGradRules {
     return {iaa::abs(a.v), igrad::each(m, [&](std::size_t i) { return hull(a.g[i], -a.g[i]); })};
   }
   // Ties follow the point rule (the first argument wins), so a decided box uses one side only.
-  static IGrad min(const IGrad& a, const IGrad& b, std::uint8_t*, VarMask m) {
-    if (a.v.hi() <= b.v.lo()) return a;
-    if (b.v.hi() < a.v.lo()) return b;
+  // They record the choice as the interval rules do (min_choice, max_choice).
+  static IGrad min(const IGrad& a, const IGrad& b, std::uint8_t* c, VarMask m) {
+    *c = min_choice(a.v, b.v);
+    if (*c == 1) return a;
+    if (*c == 2) return b;
     return {iaa::min(a.v, b.v), igrad::hulls(a.g, b.g, m)};
   }
-  static IGrad max(const IGrad& a, const IGrad& b, std::uint8_t*, VarMask m) {
-    if (a.v.lo() >= b.v.hi()) return a;
-    if (b.v.lo() > a.v.hi()) return b;
+  static IGrad max(const IGrad& a, const IGrad& b, std::uint8_t* c, VarMask m) {
+    *c = max_choice(a.v, b.v);
+    if (*c == 1) return a;
+    if (*c == 2) return b;
     return {iaa::max(a.v, b.v), igrad::hulls(a.g, b.g, m)};
   }
 };
@@ -193,6 +196,8 @@ class BasicIntervalGradEval {
     return run(b);
   }
   bool partial_domain() const { return loop_.partial_domain(); }
+  /// Per instruction of the tape, the min/max argument the last box certainly took (0: both).
+  const std::vector<std::uint8_t>& choices() const { return loop_.choices(); }
   const Tape& tape() const { return loop_.tape(); }
 
  private:

@@ -25,6 +25,18 @@ inline void put(Num& o, const Num& v, Mask... m) {
   }
 }
 
+/// Which argument of min(a, b) every point of a box takes, from their enclosures over it: 1 when
+/// a <= b everywhere, 2 when b < a everywhere, else 0. Ties go to the first argument, as in the
+/// point and gradient rules, so that a tape specialized by these choices (Tape::simplify) gives
+/// the same values and gradients as the whole tape on the box and on every box inside it.
+inline std::uint8_t min_choice(const Interval& a, const Interval& b) {
+  return a.hi() <= b.lo() ? 1 : (b.hi() < a.lo() ? 2 : 0);
+}
+/// The same for max(a, b): 1 when a >= b everywhere, 2 when b > a everywhere.
+inline std::uint8_t max_choice(const Interval& a, const Interval& b) {
+  return a.lo() >= b.hi() ? 1 : (b.lo() > a.hi() ? 2 : 0);
+}
+
 /// Bits of the variables a slot depends on by structure: x = 1, y = 2, z = 4.
 using VarMask = std::uint8_t;
 inline constexpr VarMask kAllVars = 7;

@@ -265,7 +265,7 @@ std::string Tape::listing() const {
   return out;
 }
 
-Tape Tape::simplify(std::span<const std::uint8_t> choice) const {
+Tape Tape::simplify(std::span<const std::uint8_t> choice, std::vector<std::int32_t>* origin) const {
   IAA_CHECK(choice.size() == instrs_.size());
   // Forward the decided min/max to the argument they take, then keep what the root still reaches.
   std::vector<std::int32_t> alias(instrs_.size());
@@ -287,6 +287,7 @@ Tape Tape::simplify(std::span<const std::uint8_t> choice) const {
   Tape t;
   t.instrs_.clear();
   t.constants_.clear();
+  if (origin) origin->clear();
   std::vector<std::int32_t> slot(instrs_.size(), -1);
   const auto kept = [&](std::size_t i) {
     return i < 3 || (live[i] && alias[i] == static_cast<std::int32_t>(i));
@@ -304,6 +305,7 @@ Tape Tape::simplify(std::span<const std::uint8_t> choice) const {
     slot[i] = static_cast<std::int32_t>(t.instrs_.size());
     t.instrs_.push_back(in);
     t.constants_.push_back(constants_[i]);
+    if (origin) origin->push_back(static_cast<std::int32_t>(i));
   }
   // first_op: the first slot that is neither a variable nor a constant.
   t.first_op_ = static_cast<int>(t.instrs_.size());

@@ -58,8 +58,10 @@ class Tape {
 
   /// Specializes the tape for a region where some min/max are decided: `choice[i]` is 1 when
   /// instruction i (a min or max) certainly takes its first argument, 2 its second, 0 undecided.
-  /// The result computes the same function on that region with fewer instructions.
-  Tape simplify(std::span<const std::uint8_t> choice) const;
+  /// The result computes the same function on that region with fewer instructions. With
+  /// `origin`, origin[j] is the instruction of this tape that the result's instruction j came from.
+  Tape simplify(std::span<const std::uint8_t> choice,
+                std::vector<std::int32_t>* origin = nullptr) const;
 
  private:
   std::vector<Instr> instrs_;

@@ -30,14 +30,15 @@ struct Rgb {
 
 /// Totals over the rendered pixels.
 struct FilmStats {
-  std::uint64_t pixels = 0;       ///< pixels rendered (the window)
-  std::uint64_t empty = 0;        ///< certificate kEmpty
-  std::uint64_t covered = 0;      ///< certificate kCovered
-  std::uint64_t uncertain = 0;    ///< certificate kUncertain
-  std::uint64_t evals = 0;        ///< interval evaluations, including screen-block elimination
-  std::uint64_t leaves = 0;       ///< shaded parts (IAA leaves) or rays (point methods)
-  std::uint64_t block_evals = 0;  ///< of `evals`, those spent on screen blocks above pixels
-  double covered_area = 0;        ///< sum of per-pixel coverage (in pixels)
+  std::uint64_t pixels = 0;        ///< pixels rendered (the window)
+  std::uint64_t empty = 0;         ///< certificate kEmpty
+  std::uint64_t covered = 0;       ///< certificate kCovered
+  std::uint64_t uncertain = 0;     ///< certificate kUncertain
+  std::uint64_t evals = 0;         ///< interval evaluations, including screen-block elimination
+  std::uint64_t leaves = 0;        ///< shaded parts (IAA leaves) or rays (point methods)
+  std::uint64_t block_evals = 0;   ///< of `evals`, those spent on screen blocks above pixels
+  std::uint64_t pruned_evals = 0;  ///< of `evals`, those with a tape pruned of min/max branches
+  double covered_area = 0;         ///< sum of per-pixel coverage (in pixels)
 };
 
 /// A rendered image and its per-pixel records, row-major from the top-left pixel.

@@ -10,6 +10,9 @@ namespace iaa {
 
 namespace {
 
+/// Most pieces of a segment_may_hit march (widths double: 40 cover a range 2^39 times the first).
+constexpr int kMaxMarch = 40;
+
 Interval dot(const std::array<Interval, 3>& g, const IBox& d) {
   return g[0] * d.x + g[1] * d.y + g[2] * d.z;
 }
@@ -127,11 +130,22 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
   return out;
 }
 
-bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range,
-                     double tol) {
+bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol,
+                     double first) {
   if (range.is_empty()) return false;
   PieceStack st;
-  st.push(range.lo(), range.hi());
+  // Pieces of width first, first, 2 first, 4 first, ... from the front (pushed back to front):
+  // each is excluded with one evaluation where bisection of the whole range would spend two per
+  // level on the way down to the front.
+  double ends[kMaxMarch + 1];
+  int n = 0;
+  ends[n++] = range.lo();
+  for (double w = first; first > 0 && n < kMaxMarch && ends[n - 1] + w < range.hi();) {
+    ends[n] = ends[n - 1] + w;
+    if (n++ > 1) w *= 2;
+  }
+  ends[n++] = range.hi();
+  for (int k = n - 1; k > 0; --k) st.push(ends[k - 1], ends[k]);
   double a = 0, b = 0;
   while (st.pop(&a, &b)) {
     const IBox box = clip_box(segment_box(o, dir, Interval(a, b)), ctx.bounds());

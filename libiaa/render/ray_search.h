@@ -26,8 +26,11 @@ RayHit search_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Inter
                   double tol, double newton_from, bool certify = true);
 
 /// True when some point of the segment origin + s * dir, s in range, may lie on the surface
-/// (a shadow ray). Stops at the first piece of width <= tol that still contains 0.
+/// (a shadow ray). Stops at the first piece of width <= tol that still contains 0. With `first`
+/// > 0 the range is first cut into pieces of width first, first, 2 first, 4 first, ... from its
+/// front (for a segment that starts close to the surface, such as a shadow ray); else it is
+/// bisected from the whole.
 bool segment_may_hit(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
-                     double tol);
+                     double tol, double first = 0);
 
 }  // namespace iaa

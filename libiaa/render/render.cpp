@@ -97,9 +97,11 @@ class Renderer {
 
   /// The kernel of one pixel, given the depth range left by the blocks above it.
   /// `root_range` is the range of its root block (the adaptive method's corner rays use it so
-  /// that a corner ray's result does not depend on which pixel asks).
+  /// that a corner ray's result does not depend on which pixel asks); `mv` the mean-value budget
+  /// inherited from the block above.
   PixelResult pixel(int x, int y, Interval range, const BeamSearch* pfull, Interval root_range,
-                    AdaptiveCache* cache, PixelTrace* tr) {
+                    AdaptiveCache* cache, const MeanValueBudget& mv, PixelTrace* tr) {
+    ctx_.mv = mv;
     const std::uint64_t e0 = ctx_.evals;
     PixelResult r;
     switch (st_.method) {
@@ -119,12 +121,13 @@ class Renderer {
     return r;
   }
 
-  /// Runs EvalRaySet on a screen block; records it when tracing.
+  /// Runs EvalRaySet on a screen block, starting with the mean-value budget `mv` (the record of
+  /// the block above); records it when tracing.
   BeamSearch block(const PixelRect& rect, int level, Interval range, const BeamSearch* parent_full,
-                   PixelTrace* tr, int parent) {
+                   const MeanValueBudget& mv, PixelTrace* tr, int parent) {
     BeamTrace bt;
     const std::uint64_t e0 = ctx_.evals;
-    ctx_.mv.reset();
+    ctx_.mv = mv;
     const BeamSearch s = eval_ray_set(ctx_, rect, range, parent_full, tr ? &bt : nullptr);
     if (tr) {
       bt.rect = rect;
@@ -150,7 +153,6 @@ class Renderer {
   PixelResult iaa_pixel(int x, int y, Interval range, const BeamSearch* pfull, PixelTrace* tr) {
     IaaAccum acc;
     shadow_cache_.clear(0);
-    ctx_.mv.reset();
     const int parent = tr && !tr->beams.empty() ? static_cast<int>(tr->beams.size()) - 1 : -1;
     iaa_beam(PixelRect{double(x), double(y), double(x + 1), double(y + 1)}, 0, range, pfull, acc,
              tr, parent);
@@ -284,7 +286,7 @@ class Renderer {
     Vec3 p, g;
     if (h.hit) {
       p = su_.frame.eye + h.t.mid() * d;
-      g = ctx_.pg.eval(p).g;
+      g = ctx_.se.eval_point_grad(p).g;
       if (!(std::isfinite(g.x) && std::isfinite(g.y) && std::isfinite(g.z)) || length(g) == 0) {
         g = interval_mid_gradient(segment_box(su_.frame.eye, su_.frame.dir_box(uc, vc), h.t));
       }
@@ -313,7 +315,8 @@ class Renderer {
   /// point depends on it.
   double full_root(const Vec3& d, const BeamSearch& s, double tol) {
     const Vec3& eye = su_.frame.eye;
-    auto g = [&](double t) { return ctx_.pe.eval(eye + t * d) * s.sign; };  // > 0 on the near side
+    // > 0 on the near side
+    auto g = [&](double t) { return ctx_.se.eval_point(eye + t * d) * s.sign; };
     double a = s.t_near, b = s.t_far;
     double ga = g(a), gb = g(b);
     if (!(ga > 0)) {
@@ -390,7 +393,7 @@ class Renderer {
     if (h.hit) {
       const Vec3 d = su_.frame.dir(u, v);
       p = su_.frame.eye + h.t.mid() * d;
-      Vec3 g = ctx_.pg.eval(p).g;
+      Vec3 g = ctx_.se.eval_point_grad(p).g;
       if (!(std::isfinite(g.x) && std::isfinite(g.y) && std::isfinite(g.z)) || length(g) == 0) {
         g = interval_mid_gradient(segment_box(su_.frame.eye, su_.frame.dir_box(u, v), h.t));
       }
@@ -419,7 +422,7 @@ class Renderer {
                                      PixelTrace* tr) {
     const int parent = tr && !tr->beams.empty() ? static_cast<int>(tr->beams.size()) - 1 : -1;
     const BeamSearch s = block(PixelRect{double(x), double(y), double(x + 1), double(y + 1)}, 0,
-                               range, pfull, tr, parent);
+                               range, pfull, ctx_.mv, tr, parent);
     if (s.result == BeamResult::kMiss) return std::nullopt;
     return child_range(s, range);
   }
@@ -584,14 +587,16 @@ struct BlockTask {
   bool intersects_window(int bx, int by, int size) const {
     return bx < win.x1 && bx + size > win.x0 && by < win.y1 && by + size > win.y0;
   }
-  void run(int bx, int by, int size, Interval range, const BeamSearch* pfull) {
+  void run(int bx, int by, int size, Interval range, const BeamSearch* pfull,
+           const MeanValueBudget& mv) {
     if (size < kMinBlock) {
-      store(bx, by, rn.pixel(bx, by, range, pfull, root_range, cache, nullptr));
+      store(bx, by, rn.pixel(bx, by, range, pfull, root_range, cache, mv, nullptr));
       return;
     }
     const std::uint64_t e0 = ctx.evals;
     const BeamSearch s = rn.block(block_rect(bx, by, size, film.width, film.height),
-                                  block_level(size), range, pfull, nullptr, -1);
+                                  block_level(size), range, pfull, mv, nullptr, -1);
+    const MeanValueBudget after = ctx.mv.inherited();
     block_evals += ctx.evals - e0;
     if (size == kRootBlock)
       root_range = s.result == BeamResult::kMiss ? range : child_range(s, range);
@@ -604,7 +609,7 @@ struct BlockTask {
     for (int k = 0; k < 4; ++k) {
       const int cx = bx + (k & 1) * h, cy = by + (k >> 1) * h;
       if (cx >= film.width || cy >= film.height || !intersects_window(cx, cy, h)) continue;
-      run(cx, cy, h, sub, s.result == BeamResult::kFull ? &s : nullptr);
+      run(cx, cy, h, sub, s.result == BeamResult::kFull ? &s : nullptr, after);
     }
   }
 };
@@ -639,7 +644,7 @@ Film render(const Scene& scene, const RenderSettings& settings, const Exec& exec
     for (int bx = (win.x0 / kRootBlock) * kRootBlock; bx < win.x1; bx += kRootBlock)
       roots.push_back({bx, by});
   }
-  std::vector<std::uint64_t> block_evals(roots.size(), 0);
+  std::vector<std::uint64_t> block_evals(roots.size(), 0), pruned_evals(roots.size(), 0);
   ProgressPhase phase(exec.progress, "render", static_cast<std::uint64_t>(roots.size()));
   const int g = 1 << settings.max_level;
 
@@ -658,13 +663,18 @@ Film render(const Scene& scene, const RenderSettings& settings, const Exec& exec
                             cache.emplace(bx * g, by * g, kRootBlock * g + 1);
                             cp = &*cache;
                           }
+                          // Each root block starts without regions, so that what it
+                          // evaluates (and counts) does not depend on the blocks before it.
+                          ctx.se.forget_regions();
+                          const std::uint64_t p0 = ctx.se.specialized_evals();
                           BlockTask task{ctx, rn, film, win, cp, setup.depth};
                           if (setup.depth.is_empty()) {
                             task.fill_background(bx, by, kRootBlock);
                           } else {
-                            task.run(bx, by, kRootBlock, setup.depth, nullptr);
+                            task.run(bx, by, kRootBlock, setup.depth, nullptr, MeanValueBudget{});
                           }
                           block_evals[i] = task.block_evals;
+                          pruned_evals[i] = ctx.se.specialized_evals() - p0;
                           phase.advance(1);
                         }
                       });
@@ -673,6 +683,7 @@ Film render(const Scene& scene, const RenderSettings& settings, const Exec& exec
   // Totals, in a fixed order so that they do not depend on the threads.
   FilmStats& s = film.stats;
   for (std::uint64_t e : block_evals) s.block_evals += e;
+  for (std::uint64_t e : pruned_evals) s.pruned_evals += e;
   s.evals = s.block_evals;
   for (int y = win.y0; y < win.y1; ++y) {
     for (int x = win.x0; x < win.x1; ++x) {
@@ -723,12 +734,14 @@ PixelResult render_pixel(const Scene& scene, const RenderSettings& settings, int
   int parent = -1;
   BeamSearch prev;  // the block above, passed on when it is Full (as render() does)
   bool have_prev = false;
+  MeanValueBudget mv;  // the block above's, passed on (as render() does)
   for (int size = kRootBlock; size >= kMinBlock; size /= 2) {
     const int bx = (x / size) * size, by = (y / size) * size;
     const std::uint64_t e0 = ctx.evals;
     const BeamSearch s =
         rn.block(block_rect(bx, by, size, scene.width, scene.height), block_level(size), range,
-                 have_prev ? &prev : nullptr, trace, parent);
+                 have_prev ? &prev : nullptr, mv, trace, parent);
+    mv = ctx.mv.inherited();
     out.block_evals += static_cast<std::uint32_t>(ctx.evals - e0);
     if (trace) parent = static_cast<int>(trace->beams.size()) - 1;
     if (size == kRootBlock)
@@ -750,7 +763,7 @@ PixelResult render_pixel(const Scene& scene, const RenderSettings& settings, int
     cache.emplace(x * g, y * g, g + 1);
   }
   out = rn.pixel(x, y, range, have_prev ? &prev : nullptr, root_range, cache ? &*cache : nullptr,
-                 trace);
+                 mv, trace);
   out.block_evals = block_evals;
   return out;
 }

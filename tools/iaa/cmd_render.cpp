@@ -131,6 +131,7 @@ nlohmann::json report_json(const Scene& scene, const Film& f, int threads) {
                  {"uncertain", f.stats.uncertain}};
   j["evaluations"] = {{"total", f.stats.evals},
                       {"screen_blocks", f.stats.block_evals},
+                      {"pruned", f.stats.pruned_evals},
                       {"per_pixel", double(f.stats.evals) / px}};
   j["leaves"] = {{"total", f.stats.leaves}, {"per_pixel", double(f.stats.leaves) / px}};
   j["covered_fraction"] = f.stats.covered_area / px;

@@ -1,0 +1,106 @@
+#include "expr/specialize.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace iaa {
+
+namespace {
+
+bool box_contains(const IBox& outer, const IBox& inner) {
+  return outer.x.contains(inner.x) && outer.y.contains(inner.y) && outer.z.contains(inner.z);
+}
+
+std::vector<std::int32_t> min_max_instructions(const Tape& t) {
+  std::vector<std::int32_t> out;
+  const auto ins = t.instrs();
+  for (int i = t.first_op(); i < t.size(); ++i) {
+    const Op op = ins[static_cast<std::size_t>(i)].op;
+    if (op == Op::kMin || op == Op::kMax) out.push_back(i);
+  }
+  return out;
+}
+
+}  // namespace
+
+SpecializingEval::Variant::Variant(std::vector<std::uint8_t> k, std::unique_ptr<Tape> t,
+                                   std::vector<std::int32_t> o)
+    : key(std::move(k)),
+      tape(std::move(t)),
+      origin(std::move(o)),
+      undecided(min_max_instructions(*tape)),
+      ie(*tape),
+      ig(*tape),
+      pe(*tape),
+      pg(*tape) {}
+
+SpecializingEval::SpecializingEval(const Tape& tape) : tape_(&tape) {
+  std::vector<std::int32_t> identity(static_cast<std::size_t>(tape.size()));
+  for (std::size_t i = 0; i < identity.size(); ++i) identity[i] = static_cast<std::int32_t>(i);
+  variants_.push_back(std::make_unique<Variant>(std::vector<std::uint8_t>(identity.size(), 0),
+                                                std::make_unique<Tape>(tape), std::move(identity)));
+}
+
+SpecializingEval::Variant& SpecializingEval::variant_for(const IBox& b) {
+  for (const Region& r : regions_) {
+    if (r.variant < 0) break;
+    if (box_contains(r.box, b)) {
+      ++specialized_evals_;
+      return *variants_[static_cast<std::size_t>(r.variant)];
+    }
+  }
+  return *variants_[0];
+}
+
+SpecializingEval::Variant& SpecializingEval::variant_at(const Vec3& p) {
+  for (const Region& r : regions_) {
+    if (r.variant < 0) break;
+    if (r.box.x.contains(p.x) && r.box.y.contains(p.y) && r.box.z.contains(p.z))
+      return *variants_[static_cast<std::size_t>(r.variant)];
+  }
+  return *variants_[0];
+}
+
+void SpecializingEval::learn(const IBox& b, const Variant& v,
+                             const std::vector<std::uint8_t>& choices) {
+  bool more = false;
+  for (const std::int32_t i : v.undecided) more |= choices[static_cast<std::size_t>(i)] != 0;
+  if (!more) return;
+  key_ = v.key;
+  for (const std::int32_t i : v.undecided) {
+    const std::uint8_t c = choices[static_cast<std::size_t>(i)];
+    if (c != 0) key_[static_cast<std::size_t>(v.origin[static_cast<std::size_t>(i)])] = c;
+  }
+  int found = -1;
+  for (std::size_t k = 1; k < variants_.size() && found < 0; ++k) {
+    if (variants_[k]->key == key_) found = static_cast<int>(k);
+  }
+  if (found < 0) {
+    if (static_cast<int>(variants_.size()) > kMaxVariants) return;
+    std::vector<std::int32_t> origin;
+    auto t = std::make_unique<Tape>(tape_->simplify(key_, &origin));
+    variants_.push_back(std::make_unique<Variant>(key_, std::move(t), std::move(origin)));
+    found = static_cast<int>(variants_.size()) - 1;
+  }
+  // The newest region first; the oldest is forgotten.
+  std::move_backward(regions_.begin(), regions_.end() - 1, regions_.end());
+  regions_[0] = Region{b, found};
+}
+
+Interval SpecializingEval::eval(const IBox& b) {
+  Variant& v = variant_for(b);
+  const Interval f = v.ie.eval(b);
+  partial_ = v.ie.partial_domain();
+  if (!v.undecided.empty() && !partial_ && !f.is_empty()) learn(b, v, v.ie.choices());
+  return f;
+}
+
+IGrad SpecializingEval::eval_grad(const IBox& b) {
+  Variant& v = variant_for(b);
+  const IGrad g = v.ig.eval(b);
+  partial_ = v.ig.partial_domain();
+  if (!v.undecided.empty() && !partial_ && !g.v.is_empty()) learn(b, v, v.ig.choices());
+  return g;
+}
+
+}  // namespace iaa
