@@ -42,6 +42,8 @@ SpecializingEval::SpecializingEval(const Tape& tape) : tape_(&tape) {
 }
 
 SpecializingEval::Variant& SpecializingEval::variant_for(const IBox& b) {
+  // An empty side counts as inside any interval (Interval::contains): the whole tape then.
+  if (b.is_empty()) return *variants_[0];
   for (const Region& r : regions_) {
     if (r.variant < 0) break;
     if (box_contains(r.box, b)) {

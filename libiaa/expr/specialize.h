@@ -13,9 +13,9 @@
 // mode (ties go to the first argument everywhere: min_choice in eval_loop.h). Only the sign of a
 // zero bound can differ (a partial derivative that is structurally zero in the shorter tape is
 // not computed there, where the whole tape adds 0 rounded downward: -0).
-// (A point value can differ only where rounding of the point arithmetic makes a left-out branch
-// NaN at a point where its interval enclosure said it is defined: the shading point, never a
-// certificate, depends on point values.)
+// (A point value can differ where a left-out branch overflows or is NaN at that point although
+// its interval enclosure was defined, e.g. exp(x) / exp(x) at x = 710.7, inf / inf: only the
+// shading point, never a certificate, depends on point values.)
 // A region is only made from an evaluation without partial domain: a branch left out is defined
 // and continuous on the whole region, so leaving it out never hides a partial domain.
 #pragma once
@@ -50,12 +50,14 @@ class SpecializingEval {
   /// (IntervalEval::partial_domain).
   bool partial_domain() const { return partial_; }
   /// f and its gradient at a point: the same as PointEval and PointGradEval over the whole tape
-  /// (a point inside a region takes the region's tape; points make no regions).
+  /// but where a left-out branch overflows or is NaN at that point (see the top of this file);
+  /// a point inside a region takes the region's tape; points make no regions.
   double eval_point(const Vec3& p) { return variant_at(p).pe.eval(p); }
   PGrad eval_point_grad(const Vec3& p) { return variant_at(p).pg.eval(p); }
 
   /// Forgets every region (the specialized tapes are kept): what follows is evaluated as by a
-  /// new evaluator, with the same results and the same count of specialized evaluations.
+  /// new evaluator, with the same results and, while fewer than kMaxVariants specialized tapes
+  /// exist, the same count of specialized evaluations.
   void forget_regions() { regions_ = {}; }
 
   /// Interval evaluations that used a specialized tape, and the specialized tapes made so far.

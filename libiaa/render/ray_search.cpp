@@ -10,7 +10,7 @@ namespace iaa {
 
 namespace {
 
-/// Most pieces of a segment_may_hit march (widths double: 40 cover a range 2^39 times the first).
+/// Most pieces of a segment_may_hit march (widths double: 40 cover a range 2^38 times the first).
 constexpr int kMaxMarch = 40;
 
 Interval dot(const std::array<Interval, 3>& g, const IBox& d) {

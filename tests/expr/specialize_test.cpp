@@ -119,6 +119,18 @@ TEST(Specialize, TwistBladePrunesTheOtherBlade) {
   EXPECT_EQ(se.variants(), 1);  // the same choice: the same specialized tape
 }
 
+TEST(Specialize, BoxesWithAnEmptySideUseTheWholeTape) {
+  // An empty interval counts as inside every interval; such a box must not take a region's tape.
+  const Tape t = Tape::parse("min(x, y + 10)");
+  RoundingScope scope;
+  SpecializingEval se(t);
+  IntervalEval ie(t);
+  se.eval(IBox(Interval(0, 1), Interval(0, 1), Interval(0)));  // a region: min takes x
+  const IBox empty_y(Interval(0.5), Interval::empty(), Interval(0));
+  EXPECT_TRUE(same(se.eval(empty_y), ie.eval(empty_y)));
+  EXPECT_EQ(se.specialized_evals(), 0u);
+}
+
 TEST(Specialize, NoRegionFromAPartialDomain) {
   // min takes x on the box, but sqrt(y) is undefined on part of it: leaving sqrt out would lose
   // the partial-domain flag on boxes inside, so no region is made.
