@@ -1,6 +1,7 @@
 #include "expr/specialize.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace iaa {
@@ -9,6 +10,12 @@ namespace {
 
 bool box_contains(const IBox& outer, const IBox& inner) {
   return outer.x.contains(inner.x) && outer.y.contains(inner.y) && outer.z.contains(inner.z);
+}
+
+/// True when x is a single number up to a few rounding errors of its size.
+bool is_point(const Interval& x) {
+  return x.hi() - x.lo() <=
+         0x1p-40 * std::fmax(1.0, std::fmax(std::fabs(x.lo()), std::fabs(x.hi())));
 }
 
 std::vector<std::int32_t> min_max_instructions(const Tape& t) {
@@ -65,6 +72,9 @@ SpecializingEval::Variant& SpecializingEval::variant_at(const Vec3& p) {
 
 void SpecializingEval::learn(const IBox& b, const Variant& v,
                              const std::vector<std::uint8_t>& choices) {
+  // A point (up to the rounding of its coordinates) makes no region: hardly another box lies
+  // inside it, and it would push out the regions of the pieces and beams around it.
+  if (is_point(b.x) && is_point(b.y) && is_point(b.z)) return;
   bool more = false;
   for (const std::int32_t i : v.undecided) more |= choices[static_cast<std::size_t>(i)] != 0;
   if (!more) return;

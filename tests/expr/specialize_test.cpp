@@ -131,6 +131,18 @@ TEST(Specialize, BoxesWithAnEmptySideUseTheWholeTape) {
   EXPECT_EQ(se.specialized_evals(), 0u);
 }
 
+TEST(Specialize, APointMakesNoRegion) {
+  // A point box decides min(x, y + 10) but would only ever contain itself.
+  const Tape t = Tape::parse("min(x, y + 10)");
+  RoundingScope scope;
+  SpecializingEval se(t);
+  const IBox p(Interval(0.5), Interval(0.25), Interval(0));
+  se.eval(p);
+  se.eval(p);
+  EXPECT_EQ(se.specialized_evals(), 0u);
+  EXPECT_EQ(se.variants(), 0);
+}
+
 TEST(Specialize, NoRegionFromAPartialDomain) {
   // min takes x on the box, but sqrt(y) is undefined on part of it: leaving sqrt out would lose
   // the partial-domain flag on boxes inside, so no region is made.
