@@ -48,6 +48,11 @@ SpecializingEval::SpecializingEval(const Tape& tape) : tape_(&tape) {
                                                 std::make_unique<Tape>(tape), std::move(identity)));
 }
 
+void SpecializingEval::reset() {
+  regions_ = {};
+  variants_.resize(1);
+}
+
 SpecializingEval::Variant& SpecializingEval::variant_for(const IBox& b) {
   // An empty side counts as inside any interval (Interval::contains): the whole tape then.
   if (b.is_empty()) return *variants_[0];

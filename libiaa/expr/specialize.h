@@ -55,10 +55,10 @@ class SpecializingEval {
   double eval_point(const Vec3& p) { return variant_at(p).pe.eval(p); }
   PGrad eval_point_grad(const Vec3& p) { return variant_at(p).pg.eval(p); }
 
-  /// Forgets every region (the specialized tapes are kept): what follows is evaluated as by a
-  /// new evaluator, with the same results and, while fewer than kMaxVariants specialized tapes
-  /// exist, the same count of specialized evaluations.
-  void forget_regions() { regions_ = {}; }
+  /// Forgets every region and specialized tape: what follows is evaluated exactly as by a new
+  /// evaluator, the count of specialized evaluations included (which, once kMaxVariants tapes
+  /// exist, would otherwise depend on what was evaluated before).
+  void reset();
 
   /// Interval evaluations that used a specialized tape, and the specialized tapes made so far.
   std::uint64_t specialized_evals() const { return specialized_evals_; }

@@ -663,9 +663,10 @@ Film render(const Scene& scene, const RenderSettings& settings, const Exec& exec
                             cache.emplace(bx * g, by * g, kRootBlock * g + 1);
                             cp = &*cache;
                           }
-                          // Each root block starts without regions, so that what it
-                          // evaluates (and counts) does not depend on the blocks before it.
-                          ctx.se.forget_regions();
+                          // Each root block starts without regions or specialized tapes, so
+                          // that what it evaluates (and counts) does not depend on the blocks
+                          // before it.
+                          ctx.se.reset();
                           const std::uint64_t p0 = ctx.se.specialized_evals();
                           BlockTask task{ctx, rn, film, win, cp, setup.depth};
                           if (setup.depth.is_empty()) {

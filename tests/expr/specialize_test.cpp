@@ -143,6 +143,40 @@ TEST(Specialize, APointMakesNoRegion) {
   EXPECT_EQ(se.variants(), 0);
 }
 
+TEST(Specialize, AtMostKMaxVariantsTapesAndResetForgetsThem) {
+  // Each box [a + 0.1, a + 0.2] x [b + 0.1, b + 0.2] decides all sixteen mins one way for each
+  // (a, b): 81 different specializations, more than are kept.
+  std::string text;
+  for (int c = 1; c <= 8; ++c) {
+    text += (c > 1 ? " + " : "") + std::string("min(x, ") + std::to_string(c) + ") + min(y, " +
+            std::to_string(c) + ")";
+  }
+  const Tape t = Tape::parse(text);
+  RoundingScope scope;
+  SpecializingEval se(t), fresh(t);
+  IntervalEval ie(t);
+  const auto sweep = [&](SpecializingEval& e) {
+    for (int a = 0; a <= 8; ++a) {
+      for (int b = 0; b <= 8; ++b) {
+        const IBox box(Interval(a + 0.1, a + 0.2), Interval(b + 0.1, b + 0.2), Interval(0));
+        const IBox inside(Interval(a + 0.15), Interval(b + 0.15, b + 0.16), Interval(0));
+        ASSERT_TRUE(same(e.eval(box), ie.eval(box)));
+        ASSERT_TRUE(same(e.eval(inside), ie.eval(inside)));
+      }
+    }
+  };
+  sweep(se);
+  EXPECT_EQ(se.variants(), SpecializingEval::kMaxVariants);
+  EXPECT_EQ(se.specialized_evals(), std::uint64_t(SpecializingEval::kMaxVariants));
+  se.reset();
+  EXPECT_EQ(se.variants(), 0);
+  // After reset() the same evaluations specialize exactly as a new evaluator's do.
+  const std::uint64_t before = se.specialized_evals();
+  sweep(se);
+  sweep(fresh);
+  EXPECT_EQ(se.specialized_evals() - before, fresh.specialized_evals());
+}
+
 TEST(Specialize, NoRegionFromAPartialDomain) {
   // min takes x on the box, but sqrt(y) is undefined on part of it: leaving sqrt out would lose
   // the partial-domain flag on boxes inside, so no region is made.
