@@ -21,7 +21,7 @@
 
 #include "core/error.h"
 #include "expr/eval_interval.h"
-#include "expr/eval_interval_grad.h"
+#include "expr/specialize.h"
 
 namespace iaa {
 
@@ -211,7 +211,7 @@ struct Shared {
 /// Depth-first enclosure of one subtree; owns its evaluators, point cache and output.
 class SubtreeWorker {
  public:
-  explicit SubtreeWorker(Shared& sh) : sh_(sh), ie_(*sh.tape), ge_(*sh.tape) {}
+  explicit SubtreeWorker(Shared& sh) : sh_(sh), se_(*sh.tape) {}
 
   /// Starts the subtree of cell (idx, d): empties the corner cache, the leaves and the counts, so
   /// that one worker (and its evaluators) serves many subtrees with the same results as fresh ones.
@@ -255,8 +255,8 @@ class SubtreeWorker {
     const auto own = [&] {
       ++evaluations_;
       if (!sh_.centered_form) {
-        f = ie_.eval(box);
-        partial = ie_.partial_domain();
+        f = se_.eval(box);
+        partial = se_.partial_domain();
         return;
       }
       // Where most evaluated cells turn out empty (a parent expansion too weak to reject them,
@@ -267,16 +267,16 @@ class SubtreeWorker {
       // choice is made from this subtree's counts alone.
       ++own_calls_;
       if (own_calls_ > 32 && 3 * own_rejects_ > 2 * own_calls_) {
-        const Interval v = ie_.eval(box);
-        if (!ie_.partial_domain() && !intersect(f, v).contains_zero()) {
+        const Interval v = se_.eval(box);
+        if (!se_.partial_domain() && !intersect(f, v).contains_zero()) {
           f = intersect(f, v);
           partial = false;
           ++own_rejects_;
           return;
         }
       }
-      const IGrad r = ge_.eval(box);
-      partial = ge_.partial_domain();
+      const IGrad r = se_.eval_grad(box);
+      partial = se_.partial_domain();
       f = intersect(f, r.v);
       if (!partial && !f.contains_zero()) ++own_rejects_;
       if (partial || !f.contains_zero()) return;
@@ -354,9 +354,9 @@ class SubtreeWorker {
   /// f on the degenerate box of a point: its sign, when certain, is proved. Returns whole() where
   /// f may be undefined.
   Interval point_value(double x, double y, double z) {
-    const Interval v = ie_.eval(IBox(Interval(x), Interval(y), Interval(z)));
+    const Interval v = se_.eval(IBox(Interval(x), Interval(y), Interval(z)));
     ++corner_evaluations_;
-    return ie_.partial_domain() || v.is_empty() ? Interval::whole() : v;
+    return se_.partial_domain() || v.is_empty() ? Interval::whole() : v;
   }
 
   /// Proved sign of f at corner (x, y, z) of the finest grid, found once per subtree: from the
@@ -456,8 +456,7 @@ class SubtreeWorker {
   }
 
   Shared& sh_;
-  IntervalEval ie_;
-  IntervalGradEval ge_;
+  SpecializingEval se_;  ///< cells inside a cell that decided a min/max run the pruned tape
   CornerCache cache_;
   std::vector<Cell> cells_;
   std::uint64_t evaluations_ = 0;
