@@ -36,9 +36,10 @@ struct RenderSetup {
 /// block just above it (inherited()): where the block's tries failed, the unit gets kFresh free
 /// tries instead of kTrial (on the twist, where they hardly ever pay, every pixel spent 8
 /// gradient evaluations on them); where they paid, it goes on trying. (2 free tries saved more
-/// on the twist but showed more spurious silhouette pixels on the teardrop and blobby.) The chain of blocks above a pixel is fixed (render.cpp), so no
-/// decision depends on threads or on which pixels came before, and render_pixel() sees the same
-/// budget as render(). Skipping a mean-value form only gives up an exclusion, never claims one.
+/// on the twist but showed more spurious silhouette pixels on the teardrop and blobby.) The chain
+/// of blocks above a pixel is fixed (render.cpp), so no decision depends on threads or on which
+/// pixels came before, and render_pixel() sees the same budget as render(). Skipping a mean-value
+/// form only gives up an exclusion, never claims one.
 ///
 /// Where the natural enclosure of narrow depth pieces (or of slices) keeps 0 at least 7 times
 /// in 8, those are evaluated with the gradient at once (gradient_first()): the value part of that
