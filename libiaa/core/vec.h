@@ -64,6 +64,11 @@ struct IBox {
   const Interval& operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
   Interval& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
   bool is_empty() const { return x.is_empty() || y.is_empty() || z.is_empty(); }
+  /// Every side contains o's (an empty side of o counts as contained, as in Interval::contains).
+  bool contains(const IBox& o) const {
+    return x.contains(o.x) && y.contains(o.y) && z.contains(o.z);
+  }
+  bool contains(Vec3 p) const { return x.contains(p.x) && y.contains(p.y) && z.contains(p.z); }
 };
 
 }  // namespace iaa

@@ -8,10 +8,6 @@ namespace iaa {
 
 namespace {
 
-bool box_contains(const IBox& outer, const IBox& inner) {
-  return outer.x.contains(inner.x) && outer.y.contains(inner.y) && outer.z.contains(inner.z);
-}
-
 /// True when x is a single number up to a few rounding errors of its size.
 bool is_point(const Interval& x) {
   return x.hi() - x.lo() <=
@@ -58,7 +54,7 @@ SpecializingEval::Variant& SpecializingEval::variant_for(const IBox& b) {
   if (b.is_empty()) return *variants_[0];
   for (const Region& r : regions_) {
     if (r.variant < 0) break;
-    if (box_contains(r.box, b)) {
+    if (r.box.contains(b)) {
       ++specialized_evals_;
       return *variants_[static_cast<std::size_t>(r.variant)];
     }
@@ -69,8 +65,7 @@ SpecializingEval::Variant& SpecializingEval::variant_for(const IBox& b) {
 SpecializingEval::Variant& SpecializingEval::variant_at(const Vec3& p) {
   for (const Region& r : regions_) {
     if (r.variant < 0) break;
-    if (r.box.x.contains(p.x) && r.box.y.contains(p.y) && r.box.z.contains(p.z))
-      return *variants_[static_cast<std::size_t>(r.variant)];
+    if (r.box.contains(p)) return *variants_[static_cast<std::size_t>(r.variant)];
   }
   return *variants_[0];
 }

@@ -59,9 +59,7 @@ Interval piece_mean_value_form(RenderContext& ctx, const IBox& box, const IGrad&
   const double tc = t.mid();
   const IBox dc(Interval(dirs.x.mid()), Interval(dirs.y.mid()), Interval(dirs.z.mid()));
   const IBox cb = segment_box(ctx.setup.frame.eye, dc, Interval(tc));
-  for (int i = 0; i < 3; ++i) {
-    if (!box[i].contains(cb[i])) return mean_value_form(ctx, box, g);  // the box form alone
-  }
+  if (!box.contains(cb)) return mean_value_form(ctx, box, g);  // the box form alone
   const Interval fc = ctx.eval(cb);
   Interval along = Interval(0.0), across = Interval(0.0), boxed = fc;
   for (int i = 0; i < 3; ++i) {

@@ -65,7 +65,6 @@ struct MeanValueBudget {
     ++seen[k];
     natural[k] += excluded;
   }
-  void reset() { *this = MeanValueBudget{}; }
   /// The budget a unit of work inside this one starts with: this one's rate of hits over at most
   /// kTrial - kFresh tries, so that a failed record still leaves kFresh free tries.
   MeanValueBudget inherited() const {

@@ -134,15 +134,17 @@ bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interva
                      double first) {
   if (range.is_empty()) return false;
   PieceStack st;
-  // Pieces of width first, first, 2 first, 4 first, ... from the front (pushed back to front):
-  // each is excluded with one evaluation where bisection of the whole range would spend two per
-  // level on the way down to the front.
+  // Pieces of width first, first, 2 first, 4 first, ... from the front (each after the first as
+  // wide as all before it), pushed back to front: each is excluded with one evaluation where
+  // bisection of the whole range would spend two per level on the way down to the front.
   double ends[kMaxMarch + 1];
   int n = 0;
   ends[n++] = range.lo();
-  for (double w = first; first > 0 && n < kMaxMarch && ends[n - 1] + w < range.hi();) {
+  double w = first;  // width of the next piece
+  while (first > 0 && n < kMaxMarch && ends[n - 1] + w < range.hi()) {
     ends[n] = ends[n - 1] + w;
-    if (n++ > 1) w *= 2;
+    ++n;
+    if (n > 2) w *= 2;
   }
   ends[n++] = range.hi();
   for (int k = n - 1; k > 0; --k) st.push(ends[k - 1], ends[k]);
