@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build ccache pkg-config
-  libboost-dev libtbb-dev libgtest-dev libbenchmark-dev librapidcheck-dev
+  libboost-dev libtbb-dev libgtest-dev libbenchmark-dev
   libpng-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
   libcgal-dev libgmp-dev libmpfr-dev libopenmesh-dev libvtk9-dev
   xvfb xauth libgl1-mesa-dri

@@ -27,7 +27,7 @@
 
 #include "common/png.h"
 #include "core/error.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "viz/enclosure_vtk.h"
 #include "viz/scene_render.h"
 

@@ -35,9 +35,9 @@
 #include <vtkSmartPointer.h>
 
 #include "enclose/octree.h"
-#include "io/scene.h"
+#include "scene/scene.h"
 #include "mesh/triangle_soup.h"
-#include "render/settings.h"
+#include "scene/settings.h"
 #include "render/trace.h"
 
 namespace iaa::viz {

@@ -1,4 +1,4 @@
-// A mesh set against the ray trace's certificates of the same view (DESIGN.md, "Meshing and
+// A mesh set against the ray trace's certificates of the same view (docs/design.md, "Meshing and
 // comparison"). Per pixel, what the mesh shows (any triangle in the pixel's beam) is compared with
 // what the IAA render proved there:
 // - lost: IAA certifies that the pixel shows surface, the mesh shows none there;

@@ -1,4 +1,4 @@
-// The two tiers of errors (see STYLE.md, point 12).
+// The two tiers of errors (docs/design.md, "Errors").
 //
 // - `Error` and its subclasses are for bad user input: a malformed expression, an impossible
 //   setting, a bad scene file. They carry what a person needs to fix the input (line, column, the

@@ -1,5 +1,5 @@
-// How work runs, as opposed to what it computes (STYLE.md, point 7): threads, tile size, progress
-// and cancellation. Every long-running library entry point takes an `Exec`.
+// How work runs, as opposed to what it computes: threads, progress and cancellation. Every
+// long-running library entry point takes an `Exec`; its results never depend on it.
 #pragma once
 
 #include <atomic>
@@ -12,7 +12,8 @@
 
 namespace iaa {
 
-/// Progress and cancellation: the library reports, the tool draws (STYLE.md, point 9).
+/// Progress and cancellation: the library reports, the tool draws (app/progress_bar.h), so the
+/// library itself never prints.
 /// Implementations must be thread-safe: advance() is called from worker threads.
 class Progress {
  public:
@@ -35,8 +36,6 @@ class Progress {
 struct Exec {
   /// Worker threads; 0 means all hardware threads.
   int threads = 0;
-  /// Edge of a square screen tile in pixels (the unit of parallel work in the renderer).
-  int tile = 16;
   /// Optional progress sink; may be null.
   Progress* progress = nullptr;
 

@@ -123,8 +123,6 @@ class Interval {
 
   static Interval whole() { return raw(-kInf, kInf); }
   static Interval empty() { return raw(kInf, -kInf); }
-  /// Smallest interval containing a and b (in either order).
-  static Interval hull_of(double a, double b) { return a <= b ? Interval(a, b) : Interval(b, a); }
 
   double lo() const { return lo_; }
   double hi() const { return hi_; }
@@ -141,8 +139,6 @@ class Interval {
   double mid() const;
   /// Greatest absolute value.
   double mag() const { return std::fmax(std::fabs(lo_), std::fabs(hi_)); }
-  /// Least absolute value.
-  double mig() const { return contains_zero() ? 0.0 : std::fmin(std::fabs(lo_), std::fabs(hi_)); }
   bool certainly_positive() const { return lo_ > 0.0; }
   bool certainly_negative() const { return hi_ < 0.0; }
 
@@ -151,8 +147,8 @@ class Interval {
   /// Assigns v with one 16-byte store where SSE2 is available. The tape loop writes each result
   /// slot once and later operations read it, often with one 16-byte load; a plain assignment may
   /// compile to two 8-byte stores, and a 16-byte load of two pending 8-byte stores cannot be
-  /// forwarded from them: it stalls until they reach the cache (measured in `iaa bench tape`:
-  /// square after sub took about twice as long).
+  /// forwarded from them: it stalls until they reach the cache (docs/eval.md, "How fast the
+  /// evaluators are").
   void store(const Interval& v) {
 #if defined(__SSE2__)
     _mm_storeu_pd(&lo_, _mm_set_pd(v.hi_, v.lo_));

@@ -1,4 +1,4 @@
-// Guaranteed enclosure of a surface by an interval octree (DESIGN.md, "Enclosure octree").
+// Guaranteed enclosure of a surface by an interval octree (docs/design.md, "Enclosure").
 //
 // The bounds are split recursively; every cell whose interval value excludes 0 is discarded (it
 // holds no point of the surface). The leaves kept at the requested depth together contain every

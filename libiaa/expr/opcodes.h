@@ -1,4 +1,5 @@
-// The one list of operations (STYLE.md, point 4). Each entry names an operation once:
+// The one list of operations (docs/design.md, "Expressions and tapes"). Each entry names an
+// operation once:
 //   X(enumerator, text name, arity, callable)
 // `callable` operations can be written as functions in the surface language (`sqrt(x)`); the
 // others come from operators (`+ - * / ^`) or are leaves. Parser, tape printer and evaluators are

@@ -1,5 +1,5 @@
 // Interval evaluation that prunes the min/max branches an interval proves inactive (the idea of
-// libfive and Fidget; DESIGN.md, "Speed").
+// libfive and Fidget; docs/design.md, "Speed").
 //
 // When an evaluation over a box B decides some min/max (min(a, b) takes a on all of B, say), the
 // tape specialized by those choices (Tape::simplify) computes the same function on B with fewer

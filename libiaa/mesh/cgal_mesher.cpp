@@ -137,9 +137,8 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
   MeshDomain domain = MeshDomain::create_implicit_mesh_domain(
       Function(BoundedFunction{&tape, b, run}), K::Sphere_3(Point(c.x, c.y, c.z), r2),
       params::relative_error_bound = s.relative_error);
-  // A surface mesh only: no cell criterion at all, so Mesh_3 does not refine the volume. (A
-  // radius-edge bound of 3 used to be set here: it refined cells for their shape, which took a
-  // quarter of the time at 1 thread and more at 2, and left the surface facets as they were.)
+  // A surface mesh only: no cell criterion at all, so Mesh_3 does not refine the volume (cell
+  // shape criteria cost time and leave the surface facets as they are; docs/mesh.md).
   const double diag = length(b.size());
   const double pos_tol = std::max(1e-9, 10 * s.relative_error) * diag;
   const SizeField size_field{b, s.facet_size, 0.25 * diag, pos_tol, &tape, run};
@@ -147,10 +146,9 @@ TriangleSoup mesh_cgal(const Tape& tape, const CgalMeshSettings& s, const Exec& 
                     params::facet_distance = s.facet_distance);
   C3t3 c3t3;
   // Mesh_3's parallel refinement locks the cells of a grid over the bounding box before it
-  // changes the triangulation there. Measured on chubs at facet size edge/128 with 2 threads on a
-  // loaded 2-core machine: 50 cells per axis (CGAL's default) spent 4.0-4.5 s of CPU, 100 cells
-  // 2.7-2.8 s, 20 cells 6.7 s (1 thread: 1.4 s): the retries of failed locks cost more than the
-  // locks themselves, so a finer grid. The setting is CGAL's process-wide singleton, set once.
+  // changes the triangulation there; retries of failed locks cost more than the locks, so the
+  // grid is finer than CGAL's default (the measurements are in docs/mesh.md, under `iaa bench
+  // mesh`). The setting is CGAL's process-wide singleton, set once.
   static std::once_flag lock_grid_once;
   std::call_once(lock_grid_once,
                  [] { Concurrent_mesher_config::get().locking_grid_num_cells_per_axis = 100; });

@@ -12,7 +12,7 @@
 
 #include "core/error.h"
 #include "core/interval.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 
 namespace iaa {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/exec.h"
-#include "io/scene.h"
+#include "scene/scene.h"
 #include "mesh/triangle_soup.h"
 
 namespace iaa {

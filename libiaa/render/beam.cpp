@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "render/piece_stack.h"
 
 namespace iaa {

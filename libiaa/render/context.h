@@ -6,9 +6,9 @@
 #include <cstdint>
 
 #include "expr/specialize.h"
-#include "io/scene.h"
-#include "render/camera.h"
-#include "render/settings.h"
+#include "scene/scene.h"
+#include "scene/camera.h"
+#include "scene/settings.h"
 
 namespace iaa {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "core/vec.h"
-#include "render/settings.h"
+#include "scene/settings.h"
 
 namespace iaa {
 
@@ -63,8 +63,6 @@ struct Film {
   PixelCertificate cert(int x, int y) const { return certificate[index(x, y)]; }
   /// The certificate image as one byte per pixel (PixelCertificate values), for `iaa compare`.
   std::vector<std::uint8_t> certificate_bytes() const;
-  /// True when the pixel shows nothing but background (coverage 0).
-  bool is_background(int x, int y) const { return coverage[index(x, y)] == 0.0f; }
 };
 
 }  // namespace iaa

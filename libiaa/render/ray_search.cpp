@@ -3,7 +3,7 @@
 #include <array>
 #include <cmath>
 
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "render/piece_stack.h"
 
 namespace iaa {

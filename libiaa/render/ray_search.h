@@ -1,4 +1,4 @@
-// The guaranteed 1D search along one ray (DESIGN.md, "Point-sampled baselines"): bisection of the
+// The guaranteed 1D search along one ray (docs/design.md, "Rendering"): bisection of the
 // depth range with interval F, discarding pieces with 0 not in F, the first remaining piece
 // narrowed by interval Newton where F' excludes 0. A ray's root is never skipped.
 #pragma once

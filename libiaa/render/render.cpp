@@ -19,7 +19,7 @@
 
 #include "core/error.h"
 #include "render/beam.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "render/context.h"
 #include "render/ray_search.h"
 #include "render/shade.h"

@@ -4,9 +4,9 @@
 #pragma once
 
 #include "core/exec.h"
-#include "io/scene.h"
+#include "scene/scene.h"
 #include "render/film.h"
-#include "render/settings.h"
+#include "scene/settings.h"
 #include "render/trace.h"
 
 namespace iaa {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "render/ray_search.h"
 
 namespace iaa {

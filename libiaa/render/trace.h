@@ -11,24 +11,17 @@
 
 #include "core/interval.h"
 #include "core/vec.h"
+#include "scene/camera.h"
 
 namespace iaa {
 
-/// Result of EvalRaySet on a beam (DESIGN.md, "Beams and the depth search").
+/// Result of EvalRaySet on a beam (docs/design.md, "Beams and the depth search").
 enum class BeamResult : std::uint8_t {
   kMiss = 0,     ///< certified: no ray of the beam meets the surface in the searched depths
   kFull = 1,     ///< certified: every ray of the beam meets the surface in [t_near, t_far]
   kPartial = 2,  ///< possible: some ray may meet the surface, none before t_near
 };
 const char* beam_result_name(BeamResult r);
-
-/// A rectangle of continuous pixel coordinates [u0, u1] x [v0, v1] (u right, v down).
-struct PixelRect {
-  double u0 = 0, v0 = 0, u1 = 0, v1 = 0;
-  double width() const { return u1 - u0; }
-  double height() const { return v1 - v0; }
-  double area() const { return (u1 - u0) * (v1 - v0); }
-};
 
 /// One depth piece [t0, t1] of a beam that was evaluated.
 struct DepthPieceTrace {

@@ -12,11 +12,11 @@
 #include <string>
 
 #include "core/error.h"
-#include "io/scene.h"
+#include "io/scene_toml.h"
 #include "mesh/cgal_mesher.h"
 #include "mesh/mesh_raycast.h"
 #include "mesh/octree_mesher.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "render/context.h"
 #include "render/render.h"
 #ifdef IAA_HAVE_VIZ

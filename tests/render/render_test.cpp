@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "render/context.h"
 #include "render/ray_search.h"
 #include "render/render_test_util.h"

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "io/scene.h"
+#include "io/scene_toml.h"
 
 namespace iaa::test {
 

@@ -1,5 +1,5 @@
 // Scene files: every key read, unknown keys and bad values are errors that name the key.
-#include "io/scene.h"
+#include "io/scene_toml.h"
 
 #include <gtest/gtest.h>
 

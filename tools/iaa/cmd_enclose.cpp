@@ -18,7 +18,7 @@
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/command.h"
-#include "io/scene.h"
+#include "io/scene_toml.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/enclosure_vtk.h"
 #endif

@@ -22,7 +22,7 @@
 #include "iaa/command.h"
 #include "iaa/scene_loading.h"
 #include "mesh/octree_mesher.h"
-#include "render/camera.h"
+#include "scene/camera.h"
 #include "render/render.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/inspect_vtk.h"

@@ -18,7 +18,7 @@
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/command.h"
-#include "io/scene.h"
+#include "io/scene_toml.h"
 #include "mesh/cgal_mesher.h"
 #include "mesh/mesh_report.h"
 #include "mesh/octree_mesher.h"

@@ -2,6 +2,7 @@
 
 #include "common/files.h"
 #include "core/error.h"
+#include "io/scene_toml.h"
 
 namespace iaa::cli {
 

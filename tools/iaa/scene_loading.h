@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "io/scene.h"
+#include "scene/scene.h"
 
 namespace iaa::cli {
 

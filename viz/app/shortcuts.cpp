@@ -16,6 +16,7 @@
 #include "common/files.h"
 #include "common/progress_bar.h"
 #include "core/error.h"
+#include "io/scene_toml.h"
 #include "enclose/octree.h"
 #include "mesh/octree_mesher.h"
 #include "viz/app/view_options.h"

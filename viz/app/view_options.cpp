@@ -11,6 +11,7 @@
 #include "common/files.h"
 #include "common/png.h"
 #include "core/error.h"
+#include "io/scene_toml.h"
 #include "viz/app/xserver.h"
 
 namespace iaa::viz {

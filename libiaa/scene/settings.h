@@ -1,5 +1,6 @@
-// What the renderer computes (STYLE.md, point 7): the method, its levels, thresholds and
-// tolerances, an optional window of pixels, and shadows. How it runs (threads, progress) is Exec.
+// What the renderer computes: the method, its levels, thresholds and tolerances, an optional
+// window of pixels, and shadows. How it runs (threads, progress) is Exec (core/exec.h): the two
+// are kept apart so that results never depend on how they were computed.
 #pragma once
 
 #include <string>
@@ -7,7 +8,7 @@
 
 namespace iaa {
 
-/// The rendering methods (DESIGN.md, "IAA pixel subdivision" and "Point-sampled baselines").
+/// The rendering methods (docs/design.md, "Rendering").
 enum class RenderMethod {
   kIaa,       ///< interval adaptive antialiasing: beams, certified per pixel
   kPoint,     ///< one ray through each pixel centre

@@ -1,11 +1,9 @@
-#include "render/settings.h"
+#include "scene/settings.h"
 
 #include <cctype>
 #include <string>
 
 #include "core/error.h"
-#include "render/film.h"
-#include "render/trace.h"
 
 namespace iaa {
 
@@ -90,63 +88,6 @@ void RenderSettings::validate_window(int width, int height) const {
                        " and 0 <= Y0 < Y1 <= " + std::to_string(height) + " (the image is " +
                        std::to_string(width) + "x" + std::to_string(height) + ")");
   }
-}
-
-const char* beam_result_name(BeamResult r) {
-  switch (r) {
-    case BeamResult::kMiss:
-      return "miss";
-    case BeamResult::kFull:
-      return "full";
-    case BeamResult::kPartial:
-      return "partial";
-  }
-  return "?";
-}
-
-const char* beam_decision_name(BeamDecision d) {
-  switch (d) {
-    case BeamDecision::kBackground:
-      return "background";
-    case BeamDecision::kShadeFull:
-      return "shade-full";
-    case BeamDecision::kShadeLeaf:
-      return "shade-leaf";
-    case BeamDecision::kSplit:
-      return "split";
-    case BeamDecision::kDescend:
-      return "descend";
-  }
-  return "?";
-}
-
-const char* certificate_name(PixelCertificate c) {
-  switch (c) {
-    case PixelCertificate::kEmpty:
-      return "empty";
-    case PixelCertificate::kCovered:
-      return "covered";
-    case PixelCertificate::kUncertain:
-      return "uncertain";
-    case PixelCertificate::kNotRendered:
-      return "not-rendered";
-  }
-  return "?";
-}
-
-Film::Film(int w, int h)
-    : width(w),
-      height(h),
-      color(std::size_t(w) * std::size_t(h)),
-      certificate(std::size_t(w) * std::size_t(h), PixelCertificate::kNotRendered),
-      leaves(std::size_t(w) * std::size_t(h), 0),
-      evals(std::size_t(w) * std::size_t(h), 0),
-      coverage(std::size_t(w) * std::size_t(h), 0.0f) {}
-
-std::vector<std::uint8_t> Film::certificate_bytes() const {
-  std::vector<std::uint8_t> out(certificate.size());
-  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<std::uint8_t>(certificate[i]);
-  return out;
 }
 
 }  // namespace iaa

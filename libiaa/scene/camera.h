@@ -1,13 +1,33 @@
-// The pinhole camera as the renderer uses it: an orthonormal frame and the ray direction through
-// any point (u, v) of the image in continuous pixel coordinates (DESIGN.md, "Conventions").
+// The pinhole camera: what a scene says (Camera), its validation, and the orthonormal frame that
+// gives the ray direction through any point (u, v) of the image in continuous pixel coordinates
+// (docs/design.md, "Conventions"). Also the boxes of beam segments that the renderer and the mesh
+// ray caster evaluate on.
 #pragma once
 
 #include "core/interval.h"
 #include "core/vec.h"
-#include "io/scene.h"
-#include "render/trace.h"
 
 namespace iaa {
+
+/// Pinhole camera, right-handed; vertical field of view in degrees.
+struct Camera {
+  /// Limits of the vertical field of view in degrees (docs/scene-format.md): above 0, so that the
+  /// image plane has a size, and below 180.
+  static constexpr double kMinFovDeg = 1e-3;
+  static constexpr double kMaxFovDeg = 179.0;
+  Vec3 eye{0, 0, 3};
+  Vec3 look_at{0, 0, 0};
+  Vec3 up{0, 1, 0};
+  double fov_deg = 40.0;
+};
+
+/// A rectangle of continuous pixel coordinates [u0, u1] x [v0, v1] (u right, v down).
+struct PixelRect {
+  double u0 = 0, v0 = 0, u1 = 0, v1 = 0;
+  double width() const { return u1 - u0; }
+  double height() const { return v1 - v0; }
+  double area() const { return (u1 - u0) * (v1 - v0); }
+};
 
 /// Throws iaa::Error when the camera cannot form an image: eye == look_at, `up` parallel to the
 /// view direction, a field of view outside (0, 180) degrees, or non-finite numbers.

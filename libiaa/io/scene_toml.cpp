@@ -1,6 +1,6 @@
 // Scene files in TOML (docs/scene-format.md). Every key is looked up by name; whatever is left
 // over in a table is an unknown key and an error that names it.
-#include "io/scene.h"
+#include "io/scene_toml.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,6 @@
 #include "core/error.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_point.h"
-#include "render/camera.h"
 
 namespace iaa {
 

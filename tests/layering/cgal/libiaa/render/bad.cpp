@@ -1,0 +1,2 @@
+// Fixture: CGAL outside libiaa/mesh/.
+#include <CGAL/Simple_cartesian.h>

@@ -1,0 +1,2 @@
+// Fixture: core includes a module above it.
+#include "render/film.h"

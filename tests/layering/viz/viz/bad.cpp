@@ -1,0 +1,2 @@
+// Fixture: viz includes the tools.
+#include "iaa/command.h"

@@ -1,0 +1,2 @@
+// Fixture: VTK outside viz/.
+#include <vtkPolyData.h>
