@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <filesystem>
 #include <numeric>
 
@@ -315,6 +316,23 @@ void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid, Progress
   if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
     throw Error("cannot write '" + path + "': the VTK writer failed");
   }
+}
+
+VtuWriteTimes write_enclosure_vtu_timed(const std::string& path, const Enclosure& enc,
+                                        const EnclosureInfo& info, const Exec& exec) {
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+  };
+  VtuWriteTimes t;
+  vtkSmartPointer<vtkUnstructuredGrid> grid;
+  const auto t0 = Clock::now();
+  exec.run([&] { grid = enclosure_to_grid(enc, info); });
+  t.convert_s = seconds(t0);
+  const auto t1 = Clock::now();
+  write_grid_vtu(path, grid);
+  t.write_s = seconds(t1);
+  return t;
 }
 
 EnclosureFile read_enclosure_vtu(const std::string& path) {

@@ -16,6 +16,7 @@
 
 #include <vtkSmartPointer.h>
 
+#include "core/exec.h"
 #include "enclose/octree.h"
 
 class vtkUnstructuredGrid;
@@ -49,6 +50,17 @@ struct EnclosureFile {
 /// Writes a grid made by enclosure_to_grid with the same writer settings (for timing the parts).
 void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid,
                     Progress* progress = nullptr);
+
+/// Seconds spent in the two parts of writing an enclosure as .vtu.
+struct VtuWriteTimes {
+  double convert_s = 0;  ///< building the grid (enclosure_to_grid)
+  double write_s = 0;    ///< writing it (write_grid_vtu)
+};
+
+/// write_enclosure_vtu with its two parts timed apart, for `iaa bench enclose`: the grid is built
+/// inside `exec`'s arena (its threads), then written as write_enclosure_vtu writes it.
+VtuWriteTimes write_enclosure_vtu_timed(const std::string& path, const Enclosure& enc,
+                                        const EnclosureInfo& info, const Exec& exec);
 
 /// Reads a .vtu written by write_enclosure_vtu with vtkXMLUnstructuredGridReader. Throws
 /// iaa::Error when the file is missing, unreadable, or lacks the arrays above.

@@ -1,34 +1,52 @@
 // Google Benchmark micro-benchmarks of the interval core and the tape evaluators (the same
-// figures as `iaa bench tape`, in Google Benchmark's format for comparisons across commits:
+// figures as `iaa bench tape`, on the chubs scene of data/scenes, in Google Benchmark's format for
+// comparisons across commits:
 //   build/bin/iaa_gbench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
+#include <fstream>
 #include <random>
+#include <sstream>
+#include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
+#include "io/scene.h"
 
 namespace iaa {
 namespace {
 
-const char* kChubs = "x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5";
+/// The chubs scene of the source tree (data/scenes/chubs.toml), read once.
+const Scene& chubs() {
+  static const Scene scene = [] {
+    const std::string path = std::string(IAA_SOURCE_DIR) + "/data/scenes/chubs.toml";
+    std::ifstream in(path);
+    if (!in) throw Error("cannot read '" + path + "'");
+    std::stringstream text;
+    text << in.rdbuf();
+    return parse_scene(text.str(), path);
+  }();
+  return scene;
+}
 
-std::vector<Vec3> points(int n) {
+/// n points drawn uniformly in the box b, the same in every run.
+std::vector<Vec3> points(const Box3& b, int n) {
   std::mt19937_64 rng(1);
-  std::uniform_real_distribution<double> u(-1.1, 1.1);
+  std::uniform_real_distribution<double> ux(b.lo.x, b.hi.x), uy(b.lo.y, b.hi.y), uz(b.lo.z, b.hi.z);
   std::vector<Vec3> p(static_cast<std::size_t>(n));
-  for (Vec3& v : p) v = {u(rng), u(rng), u(rng)};
+  for (Vec3& v : p) v = {ux(rng), uy(rng), uz(rng)};
   return p;
 }
 
 // Runs `eval_one(evaluator, point)` over 1024 points per iteration and reports ns per tape op.
 template <class Eval, class F>
 void run_tape(benchmark::State& state, F eval_one) {
-  const Tape t = Tape::parse(kChubs);
+  const Tape& t = *chubs().tape;
   Eval e(t);
-  const auto pts = points(1024);
+  const auto pts = points(chubs().bounds, 1024);
   RoundingScope scope;  // point evaluation rounds upward here too; speed is the same
   for (auto _ : state) {
     for (const Vec3& p : pts) benchmark::DoNotOptimize(eval_one(e, p));

@@ -1,60 +1,66 @@
-// Shared helpers of the enclosure tests: the test surfaces, a lookup of leaves by index, and a
-// certified 1D root search along segments.
+// Shared helpers of the enclosure tests: the test surfaces (read from data/scenes), a lookup of
+// leaves by index, and a certified 1D root search along segments.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <unordered_set>
 #include <vector>
 
+#include "core/error.h"
 #include "core/interval.h"
 #include "core/vec.h"
 #include "enclose/octree.h"
 #include "expr/eval_interval.h"
 #include "expr/tape.h"
+#include "io/scene.h"
 
 namespace iaa::test {
 
+/// A surface of the enclosure tests: the expression and bounding box of a bundled scene.
 struct TestSurface {
-  const char* name;
-  const char* expr;
+  std::string name;
+  std::string expr;
   Box3 bounds;
 };
 
-// From /work/shared/surfaces.json (also data/scenes/*.toml).
+/// The scene data/scenes/NAME.toml of the source tree as a test surface. Its expression takes no
+/// parameters, since the tests compile `expr` alone.
+inline TestSurface load_test_surface(const std::string& name) {
+  const std::string path = std::string(IAA_SOURCE_DIR) + "/data/scenes/" + name + ".toml";
+  std::ifstream in(path);
+  if (!in) throw Error("cannot read '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  const Scene scene = parse_scene(text.str(), path);
+  if (!scene.params.empty()) throw Error("'" + path + "': a test surface takes no parameters");
+  return {name, scene.expression, scene.bounds};
+}
+
+/// The test surfaces.
 inline const std::vector<TestSurface>& test_surfaces() {
-  static const std::vector<TestSurface> all = {
-      {"teardrop", "0.5*x^5 + 0.5*x^4 - y^2 - z^2", {{-1.05, -1.05, -1.05}, {1.0, 1.05, 1.05}}},
-      {"chubs", "x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5", {{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}}},
-      {"tritrumpet",
-       "8*z^2 + 6*x*y^2 - 2*x^3 + 3*x^2 + 3*y^2 - 1",
-       {{-1.6, -1.6, -1.0}, {1.6, 1.6, 1.0}}},
-      {"barth_sextic",
-       "4*(2.618033988749895*x^2 - y^2)*(2.618033988749895*y^2 - z^2)*(2.618033988749895*z^2 - x^2)"
-       " - 4.23606797749979*(x^2 + y^2 + z^2 - 1)^2",
-       {{-1.8, -1.8, -1.8}, {1.8, 1.8, 1.8}}},
-      {"twist",
-       "min((x*cos(1.2*z) + y*sin(1.2*z))^4 + ((y*cos(1.2*z) - x*sin(1.2*z))/0.03)^4 + (z/1.5)^4 - "
-       "1,"
-       " ((x*cos(1.2*z) + y*sin(1.2*z))/0.03)^4 + (y*cos(1.2*z) - x*sin(1.2*z))^4 + (z/1.5)^4 - 1)",
-       {{-1.1, -1.1, -1.6}, {1.1, 1.1, 1.6}}},
-      {"blobby",
-       "0.2113 - exp(-4*((x+0.75)^2+y^2+z^2)) - exp(-4*((x-0.75)^2+y^2+z^2)) - "
-       "exp(-4*((x-0.75)^2+y^2+(z-1.2)^2)) - exp(-4*((x+0.75)^2+(y-1.2)^2+z^2))",
-       {{-1.5, -0.75, -0.75}, {1.5, 1.95, 1.95}}},
-      {"steiner_roman",
-       "x^2*y^2 + y^2*z^2 + z^2*x^2 - x*y*z",
-       {{-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}}},
-      {"gyroid",
-       "sin(x)*cos(y) + sin(y)*cos(z) + sin(z)*cos(x)",
-       {{-3.14159, -3.14159, -3.14159}, {3.14159, 3.14159, 3.14159}}},
-      {"heart",
-       "(x^2 + 2.25*y^2 + z^2 - 1)^3 - x^2*z^3 - 0.1125*y^2*z^3",
-       {{-1.3, -0.8, -1.1}, {1.3, 0.8, 1.3}}},
-  };
+  static const std::vector<TestSurface> all = [] {
+    std::vector<TestSurface> v;
+    for (const char* name : {"teardrop", "chubs", "tritrumpet", "barth_sextic", "twist", "blobby",
+                             "steiner_roman", "gyroid", "heart"}) {
+      v.push_back(load_test_surface(name));
+    }
+    return v;
+  }();
   return all;
+}
+
+/// The test surface called `name`; throws iaa::Error when there is none.
+inline const TestSurface& test_surface(const std::string& name) {
+  for (const TestSurface& s : test_surfaces()) {
+    if (s.name == name) return s;
+  }
+  throw Error("no test surface '" + name + "'");
 }
 
 /// The set of leaves of an enclosure, looked up by (depth, index).

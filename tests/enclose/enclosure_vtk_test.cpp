@@ -45,7 +45,7 @@ void expect_same(const Enclosure& a, const Enclosure& b) {
 }
 
 TEST(EnclosureVtk, ReadsBackIdentical) {
-  const auto& s = test::test_surfaces()[0];  // teardrop, refined: cells of several depths
+  const auto& s = test::test_surface("teardrop");  // refined: cells of several depths
   const Tape tape = Tape::parse(s.expr);
   EncloseSettings set;
   set.bounds = s.bounds;

@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <random>
 
 #include "core/error.h"
@@ -16,6 +15,7 @@ namespace iaa {
 namespace {
 
 using test::LeafSet;
+using test::test_surface;
 using test::test_surfaces;
 
 Enclosure run(const std::string& expr, const Box3& b, int depth, int refine = 0, int threads = 2) {
@@ -189,7 +189,7 @@ TEST(Enclose, RecordedCornerSignsAreProvedAndComplete) {
 }
 
 TEST(Enclose, CanonicalOrderAndNoDuplicates) {
-  const auto& s = test_surfaces()[0];  // teardrop, with refinement: several depths
+  const auto& s = test_surface("teardrop");  // with refinement: several depths
   const Enclosure e = run(s.expr, s.bounds, 5, 3);
   ASSERT_GT(e.cells.size(), 100u);
   for (std::size_t i = 1; i < e.cells.size(); ++i) {
@@ -202,8 +202,7 @@ TEST(Enclose, CanonicalOrderAndNoDuplicates) {
 
 TEST(Enclose, SameResultForAnyThreadCount) {
   for (const char* name : {"chubs", "twist"}) {
-    const auto& s = *std::find_if(test_surfaces().begin(), test_surfaces().end(),
-                                  [&](const auto& t) { return std::string(t.name) == name; });
+    const auto& s = test_surface(name);
     const Enclosure a = run(s.expr, s.bounds, 6, 1, 1);
     for (int threads : {2, 3}) {
       const Enclosure b = run(s.expr, s.bounds, 6, 1, threads);
@@ -224,8 +223,7 @@ TEST(Enclose, SameResultForAnyThreadCount) {
 // volume.
 TEST(Enclose, DeeperEnclosuresNestInShallowerOnes) {
   for (const char* name : {"teardrop", "chubs", "tritrumpet", "gyroid"}) {
-    const auto& s = *std::find_if(test_surfaces().begin(), test_surfaces().end(),
-                                  [&](const auto& t) { return std::string(t.name) == name; });
+    const auto& s = test_surface(name);
     const Enclosure shallow = run(s.expr, s.bounds, 4);
     const LeafSet in_shallow(shallow);
     for (int depth : {5, 6}) {
@@ -330,7 +328,7 @@ TEST(Enclose, SurfaceWithoutSignChangeIsEnclosedAsPossible) {
 // The teardrop's neck is thinner than a depth-5 cell: the search along the x axis (where the
 // neck is) still finds roots, and they are enclosed; refinement keeps the neck connected.
 TEST(Enclose, TeardropNeckIsEnclosed) {
-  const auto& s = test_surfaces()[0];
+  const auto& s = test_surface("teardrop");
   const Enclosure e = run(s.expr, s.bounds, 6, 4);
   const LeafSet leaves(e);
   const Tape tape = Tape::parse(s.expr);

@@ -1,15 +1,17 @@
 // `iaa bench enclose`: boxes and time of the enclosure octree for depths 6-10 on chubs, the
-// teardrop and the Barth sextic (median of several runs), including the .vtu write, with the
-// growth per level (about x4 for a surface) and, as the baseline of the same run, the natural
-// interval alone (no mean-value form) at the shallower depths. The machine may be shared: the
-// `cpu` column (process CPU time of enclose + convert + write, all threads) shows the work when
-// the wall-clock times are inflated by other processes.
+// teardrop and the Barth sextic (their scenes in data/scenes; median of several runs), including
+// the .vtu write, with the growth per level (about x4 for a surface) and, as the baseline of the
+// same run, the natural interval alone (no mean-value form) at the shallower depths. The machine
+// may be shared: the `cpu` column (process CPU time of enclose + convert + write, all threads)
+// shows the work when the wall-clock times are inflated by other processes.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -20,30 +22,14 @@
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/bench.h"
+#include "iaa/bench_scenes.h"
+#include "iaa/scene_loading.h"
 #ifdef IAA_HAVE_VIZ
-#include <vtkUnstructuredGrid.h>
-
 #include "viz/enclosure_vtk.h"
 #endif
 
 namespace iaa::cli {
 namespace {
-
-struct Surface {
-  const char* name;
-  const char* expr;
-  Box3 bounds;
-};
-
-// From /work/shared/surfaces.json (the project's test surfaces).
-const Surface kSurfaces[] = {
-    {"chubs", "x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5", {{-1.1, -1.1, -1.1}, {1.1, 1.1, 1.1}}},
-    {"teardrop", "0.5*x^5 + 0.5*x^4 - y^2 - z^2", {{-1.05, -1.05, -1.05}, {1.0, 1.05, 1.05}}},
-    {"barth_sextic",
-     "4*(2.618033988749895*x^2 - y^2)*(2.618033988749895*y^2 - z^2)*(2.618033988749895*z^2 - x^2)"
-     " - 4.23606797749979*(x^2 + y^2 + z^2 - 1)^2",
-     {{-1.8, -1.8, -1.8}, {1.8, 1.8, 1.8}}},
-};
 
 struct BenchOptions {
   int min_depth = 6;
@@ -51,7 +37,8 @@ struct BenchOptions {
   int runs = 3;
   int threads = 0;
   int baseline_max_depth = 8;
-  std::vector<std::string> surfaces;
+  std::vector<std::string> surfaces{"chubs", "teardrop", "barth_sextic"};
+  std::string scene_dir;
   bool no_write = false;
   std::string json;
 };
@@ -75,11 +62,11 @@ void run(const BenchOptions& o) {
                        std::to_string(EncloseSettings::kMaxDepth));
   }
   if (o.runs < 1 || o.runs > 100) throw SettingError("--runs must be between 1 and 100");
-  for (const std::string& s : o.surfaces) {
-    if (std::none_of(std::begin(kSurfaces), std::end(kSurfaces),
-                     [&](const Surface& k) { return s == k.name; })) {
-      throw Error("--surface: unknown surface '" + s + "' (chubs, teardrop, barth_sextic)");
-    }
+  // All scenes are read before anything is measured, so that a bad name fails at once.
+  const std::string dir = find_scene_dir(o.scene_dir);
+  std::vector<Scene> scenes;
+  for (const std::string& name : o.surfaces) {
+    scenes.push_back(load_scene(dir + "/" + name + ".toml"));
   }
   bool write = !o.no_write;
 #ifndef IAA_HAVE_VIZ
@@ -98,16 +85,12 @@ void run(const BenchOptions& o) {
               "boxes", "x/level", "possible", "enclose", "convert", "write", "total", "x/level",
               "cpu", "base boxes", "base time");
   nlohmann::json rows = nlohmann::json::array();
-  for (const Surface& surf : kSurfaces) {
-    if (!o.surfaces.empty() &&
-        std::find(o.surfaces.begin(), o.surfaces.end(), surf.name) == o.surfaces.end()) {
-      continue;
-    }
-    const Tape tape = Tape::parse(surf.expr);
+  for (const Scene& scene : scenes) {
+    const Tape& tape = *scene.tape;
     double prev_boxes = 0, prev_total = 0;
     for (int depth = o.min_depth; depth <= o.max_depth; ++depth) {
       EncloseSettings s;
-      s.bounds = surf.bounds;
+      s.bounds = scene.bounds;
       s.depth = depth;
       std::vector<double> t_enc, t_conv, t_write, t_total, t_cpu;
       Enclosure enc;
@@ -118,11 +101,10 @@ void run(const BenchOptions& o) {
         double tc = 0, tw = 0;
 #ifdef IAA_HAVE_VIZ
         if (write) {
-          vtkSmartPointer<vtkUnstructuredGrid> grid;
-          tc = seconds([&] {
-            exec.run([&] { grid = viz::enclosure_to_grid(enc, viz::EnclosureInfo{surf.expr, s}); });
-          });
-          tw = seconds([&] { viz::write_grid_vtu(tmp, grid); });
+          const viz::VtuWriteTimes t = viz::write_enclosure_vtu_timed(
+              tmp, enc, viz::EnclosureInfo{scene.expression, s}, exec);
+          tc = t.convert_s;
+          tw = t.write_s;
           bytes = std::filesystem::file_size(tmp);
           std::filesystem::remove(tmp);
         }
@@ -156,11 +138,11 @@ void run(const BenchOptions& o) {
       }
       std::printf(
           "%-13s %5d %10.0f %8s %10llu %7.3f s %7.3f s %7.3f s %7.3f s %8s %7.3f s %12s %9s\n",
-          surf.name, depth, boxes, growth,
+          scene.name.c_str(), depth, boxes, growth,
           static_cast<unsigned long long>(enc.count(CellClass::kPossible)), median(t_enc),
           median(t_conv), median(t_write), total, tgrowth, median(t_cpu), bb, bt);
       std::fflush(stdout);
-      nlohmann::json row = {{"surface", surf.name},
+      nlohmann::json row = {{"surface", scene.name},
                             {"depth", depth},
                             {"boxes", enc.cells.size()},
                             {"crossing", enc.count(CellClass::kCrossing)},
@@ -203,7 +185,11 @@ void setup(CLI::App& app) {
   app.add_option("--baseline-max-depth", o->baseline_max_depth,
                  "deepest depth for the natural-interval baseline (it grows much faster)")
       ->capture_default_str();
-  app.add_option("--surface", o->surfaces, "only these surfaces (chubs, teardrop, barth_sextic)");
+  app.add_option("--surface", o->surfaces, "the surfaces: names of scenes in the scene directory")
+      ->capture_default_str();
+  app.add_option("--scene-dir", o->scene_dir,
+                 "directory of the scene files (default: data/scenes in the working directory, "
+                 "else in the source tree above the executable)");
   app.add_flag("--no-write", o->no_write,
                "measure the octree only, not the .vtu conversion and write");
   app.add_option("--json", o->json, "also write the table as JSON");

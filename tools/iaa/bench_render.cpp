@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iterator>
 #include <memory>
 
@@ -14,6 +13,7 @@
 #include "common/png.h"
 #include "core/error.h"
 #include "iaa/bench.h"
+#include "iaa/bench_scenes.h"
 #include "iaa/scene_loading.h"
 #include "render/render.h"
 
@@ -30,25 +30,6 @@ struct BenchRenderOptions {
   std::string json;
   std::vector<std::string> sets;
 };
-
-/// The --scene-dir given, else data/scenes from the working directory, else relative to the
-/// executable (build/bin).
-std::string find_scene_dir(const std::string& given) {
-  namespace fs = std::filesystem;
-  if (!given.empty()) {
-    if (!fs::is_directory(given)) throw SettingError("--scene-dir " + given + ": not a directory");
-    return given;
-  }
-  if (fs::is_directory("data/scenes")) return "data/scenes";
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    for (fs::path p = exe.parent_path(); !p.empty() && p != p.root_path(); p = p.parent_path()) {
-      if (fs::is_directory(p / "data/scenes")) return (p / "data/scenes").string();
-    }
-  }
-  throw Error("cannot find data/scenes; run from the source tree or pass --scene-dir");
-}
 
 /// a / b as JSON, null when b is 0 (no baseline to compare with).
 nlohmann::json ratio_json(double a, double b) {

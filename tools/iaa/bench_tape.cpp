@@ -1,29 +1,35 @@
 // `iaa bench tape`: nanoseconds per tape operation for each evaluator, on the chubs and Barth
-// sextic expressions, next to the same expressions hand-written in plain double arithmetic and
-// compiled natively, all measured in the same run. Medians of several runs.
+// sextic expressions (read from their scenes in data/scenes), next to the same expressions
+// hand-written in plain double arithmetic and compiled natively, all measured in the same run.
+// Medians of several runs.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "common/files.h"
+#include "core/error.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
 #include "expr/eval_point_grad.h"
 #include "iaa/bench.h"
+#include "iaa/bench_scenes.h"
+#include "iaa/scene_loading.h"
 
 namespace iaa::cli {
 namespace {
 
+/// A scene whose expression is also written below as native code.
 struct Surface {
-  const char* name;
-  const char* expr;  // as in shared/surfaces.json
+  const char* scene;  ///< the scene file's name in the scene directory, without .toml
   double (*native)(double, double, double);
-  double half;  // the bounding box is [-half, half]^3
 };
 
 double chubs(double x, double y, double z) {
@@ -37,13 +43,7 @@ double barth(double x, double y, double z) {
          4.23606797749979 * r * r;
 }
 
-const Surface kSurfaces[] = {
-    {"chubs", "x^4 + y^4 + z^4 - x^2 - y^2 - z^2 + 0.5", chubs, 1.1},
-    {"barth_sextic",
-     "4*(2.618033988749895*x^2 - y^2)*(2.618033988749895*y^2 - z^2)*(2.618033988749895*z^2 - "
-     "x^2) - 4.23606797749979*(x^2 + y^2 + z^2 - 1)^2",
-     barth, 1.8},
-};
+const Surface kSurfaces[] = {{"chubs", chubs}, {"barth_sextic", barth}};
 
 volatile double g_sink;  // keeps results alive
 
@@ -66,21 +66,50 @@ double median_seconds(int runs, const std::function<void()>& f) {
 struct Options {
   int points = 20000;
   int runs = 7;
+  std::string scene_dir;
   std::string json;
 };
 
+/// Points drawn uniformly in the scene's bounding box, the same for every run.
+std::vector<Vec3> sample_points(const Box3& bounds, int n) {
+  std::mt19937_64 rng(1);
+  std::uniform_real_distribution<double> ux(bounds.lo.x, bounds.hi.x), uy(bounds.lo.y, bounds.hi.y),
+      uz(bounds.lo.z, bounds.hi.z);
+  std::vector<Vec3> pts(static_cast<std::size_t>(n));
+  for (Vec3& p : pts) p = {ux(rng), uy(rng), uz(rng)};
+  return pts;
+}
+
+/// Throws iaa::Error when the native code of `s` does not compute the scene's expression (the
+/// scene file was changed, not the code below it).
+void check_native(const Surface& s, const Scene& scene) {
+  PointEval pe(*scene.tape);
+  for (const Vec3& p : sample_points(scene.bounds, 100)) {
+    const double a = s.native(p.x, p.y, p.z), b = pe.eval(p);
+    if (!(std::abs(a - b) <= 1e-9 * (1 + std::abs(b)))) {
+      throw Error("the native code of '" + std::string(s.scene) +
+                  "' does not match the expression of its scene: " + scene.expression);
+    }
+  }
+}
+
 void run(const Options& o) {
+  // The scenes are read and checked before anything is measured.
+  const std::string dir = find_scene_dir(o.scene_dir);
+  std::vector<Scene> scenes;
+  for (const Surface& s : kSurfaces) {
+    scenes.push_back(load_scene(dir + "/" + s.scene + ".toml"));
+    check_native(s, scenes.back());
+  }
   nlohmann::json out = nlohmann::json::array();
   std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %s\n", "surface", "ops", "native", "point",
               "interval", "pt+grad", "iv+grad", "iv/point", "target");
   std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  <= %gx\n", "", "", "ns/op", "ns/op",
               "ns/op", "ns/op", "ns/op", "ratio", kIntervalOverPointTarget);
-  for (const Surface& s : kSurfaces) {
-    const Tape tape = Tape::parse(s.expr);
-    std::mt19937_64 rng(1);
-    std::uniform_real_distribution<double> u(-s.half, s.half);
-    std::vector<Vec3> pts(static_cast<std::size_t>(o.points));
-    for (Vec3& p : pts) p = {u(rng), u(rng), u(rng)};
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const Surface& s = kSurfaces[i];
+    const Tape& tape = *scenes[i].tape;
+    const std::vector<Vec3> pts = sample_points(scenes[i].bounds, o.points);
     const double ops = static_cast<double>(tape.op_count()) * o.points;
 
     PointEval pe(tape);
@@ -125,10 +154,10 @@ void run(const Options& o) {
     const auto ns = [&](double t) { return t * 1e9 / ops; };
     const double ratio = t_interval / t_point;
     const bool within = ratio <= kIntervalOverPointTarget;
-    std::printf("%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %s\n", s.name,
+    std::printf("%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %s\n", s.scene,
                 tape.op_count(), ns(t_native), ns(t_point), ns(t_interval), ns(t_pgrad),
                 ns(t_igrad), ratio, within ? "within" : "MISSED");
-    out.push_back({{"surface", s.name},
+    out.push_back({{"surface", s.scene},
                    {"tape_ops", tape.op_count()},
                    {"evaluations", o.points},
                    {"runs", o.runs},
@@ -154,6 +183,9 @@ void setup(CLI::App& app) {
   app.add_option("--points", o->points, "evaluations per run")->check(CLI::Range(100, 10'000'000));
   app.add_option("--runs", o->runs, "runs per measurement (the median is reported)")
       ->check(CLI::Range(1, 101));
+  app.add_option("--scene-dir", o->scene_dir,
+                 "directory of the scene files (default: data/scenes in the working directory, "
+                 "else in the source tree above the executable)");
   app.add_option("--json", o->json, "also write the figures as JSON to this file");
   app.footer("Examples:\n  iaa bench tape\n  iaa bench tape --points 100000 --json tape.json");
   app.callback([o] { run(*o); });
