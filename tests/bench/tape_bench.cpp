@@ -14,7 +14,7 @@
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
-#include "io/scene.h"
+#include "io/scene_toml.h"
 
 namespace iaa {
 namespace {

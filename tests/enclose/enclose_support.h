@@ -18,7 +18,7 @@
 #include "enclose/octree.h"
 #include "expr/eval_interval.h"
 #include "expr/tape.h"
-#include "io/scene.h"
+#include "io/scene_toml.h"
 
 namespace iaa::test {
 
