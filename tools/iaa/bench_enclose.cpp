@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/files.h"
+#include "app/files.h"
 #include "core/error.h"
 #include "enclose/octree.h"
 #include "expr/tape.h"
@@ -188,7 +188,7 @@ void run(const BenchOptions& o) {
                         {"threads", exec.resolved_threads()},
                         {"runs", o.runs},
                         {"rows", rows}};
-    tools::write_text_atomically(o.json, j.dump(2) + "\n");
+    app::write_text_atomically(o.json, j.dump(2) + "\n");
     std::printf("\nwrote %s\n", o.json.c_str());
   }
 }

@@ -10,11 +10,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/files.h"
-#include "common/png.h"
+#include "app/files.h"
+#include "app/png.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "iaa/bench.h"
-#include "iaa/scene_loading.h"
 #include "render/render.h"
 
 namespace iaa::cli {
@@ -65,7 +65,7 @@ std::string ratio_cell(double a, double b) {
 
 /// Display value (8-bit sRGB-ish) in [0, 1], what a viewer of the PNG sees.
 double display(float v) {
-  return tools::to_byte(v) / 255.0;
+  return app::to_byte(v) / 255.0;
 }
 
 struct Quality {
@@ -115,7 +115,7 @@ void run(const BenchRenderOptions& o) {
     std::vector<std::string> sets = o.sets;
     sets.push_back("image.width=" + std::to_string(o.size));
     sets.push_back("image.height=" + std::to_string(o.size));
-    const Scene scene = load_scene(dir + "/" + name + ".toml", sets);
+    const Scene scene = app::load_scene(dir + "/" + name + ".toml", sets);
     RenderSettings ref_st = scene.settings;
     ref_st.method = RenderMethod::kGrid;
     ref_st.grid_n = o.ref_grid;
@@ -183,7 +183,7 @@ void run(const BenchRenderOptions& o) {
       "adaptive's, measured in this run.\n"
       "RMSE on 8-bit display values in [0, 1]; missed = the reference sees surface, the method\n"
       "shows pure background; spurious = the reference sees none, the method shows some.\n");
-  if (!o.json.empty()) tools::write_text_atomically(o.json, out.dump(2) + "\n");
+  if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
 }
 
 void setup(CLI::App& app) {

@@ -9,7 +9,7 @@
 #include <functional>
 #include <random>
 
-#include "common/files.h"
+#include "app/files.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -146,7 +146,7 @@ void run(const Options& o) {
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"
       "target: interval within %gx of point evaluation per operation\n",
       o.runs, o.points, kIntervalOverPointTarget);
-  if (!o.json.empty()) tools::write_text_atomically(o.json, out.dump(2) + "\n");
+  if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
 }
 
 void setup(CLI::App& app) {

@@ -16,11 +16,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/png.h"
+#include "app/png.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "enclose/octree.h"
 #include "iaa/command.h"
-#include "iaa/scene_loading.h"
 #include "mesh/octree_mesher.h"
 #include "render/camera.h"
 #include "render/render.h"
@@ -75,8 +75,8 @@ std::string rect_text(const PixelRect& r) {
 
 std::string hex_color(const Vec3& c) {
   char b[16];
-  std::snprintf(b, sizeof b, "#%02x%02x%02x", tools::to_byte(c.x), tools::to_byte(c.y),
-                tools::to_byte(c.z));
+  std::snprintf(b, sizeof b, "#%02x%02x%02x", app::to_byte(c.x), app::to_byte(c.y),
+                app::to_byte(c.z));
   return b;
 }
 
@@ -251,7 +251,7 @@ nlohmann::json jvec(const Vec3& v) {
 }
 
 nlohmann::json jrgb8(const Vec3& c) {
-  return nlohmann::json::array({tools::to_byte(c.x), tools::to_byte(c.y), tools::to_byte(c.z)});
+  return nlohmann::json::array({app::to_byte(c.x), app::to_byte(c.y), app::to_byte(c.z)});
 }
 
 nlohmann::json to_json(const Scene& scene, const std::string& path, const RenderSettings& st,
@@ -483,7 +483,7 @@ void run(const InspectOptions& o) {
   std::vector<std::string> sets = o.sets;
   if (o.width != kUnset) sets.push_back("image.width=" + std::to_string(o.width));
   if (o.height != kUnset) sets.push_back("image.height=" + std::to_string(o.height));
-  const Scene scene = load_scene(o.scene, sets);
+  const Scene scene = app::load_scene(o.scene, sets);
   const int x = px[0], y = px[1];
   if (x < 0 || y < 0 || x >= scene.width || y >= scene.height) {
     throw Error("--pixel " + std::to_string(x) + "," + std::to_string(y) + " is outside the " +

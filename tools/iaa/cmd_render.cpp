@@ -9,12 +9,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/files.h"
-#include "common/png.h"
-#include "common/progress_bar.h"
+#include "app/files.h"
+#include "app/png.h"
+#include "app/progress_bar.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "iaa/command.h"
-#include "iaa/scene_loading.h"
 #include "render/render.h"
 
 namespace iaa::cli {
@@ -78,8 +78,8 @@ void certificate_color(PixelCertificate c, std::uint8_t* p) {
 }
 
 /// Heat map (black, red, yellow, white) of a count on a log scale up to the image's maximum.
-tools::Image8 heat_map(const Film& f, const std::vector<std::uint32_t>& v) {
-  tools::Image8 img(f.width, f.height, 3);
+app::Image8 heat_map(const Film& f, const std::vector<std::uint32_t>& v) {
+  app::Image8 img(f.width, f.height, 3);
   const std::uint32_t mx = v.empty() ? 0 : *std::max_element(v.begin(), v.end());
   const double scale = mx > 0 ? 1.0 / std::log1p(double(mx)) : 0.0;
   for (int y = 0; y < f.height; ++y) {
@@ -94,15 +94,15 @@ tools::Image8 heat_map(const Film& f, const std::vector<std::uint32_t>& v) {
   return img;
 }
 
-tools::Image8 color_image(const Film& f) {
-  tools::Image8 img(f.width, f.height, 3);
+app::Image8 color_image(const Film& f) {
+  app::Image8 img(f.width, f.height, 3);
   for (int y = 0; y < f.height; ++y) {
     for (int x = 0; x < f.width; ++x) {
       const Rgb& c = f.at(x, y);
       std::uint8_t* p = img.at(x, y);
-      p[0] = tools::to_byte(c.r);
-      p[1] = tools::to_byte(c.g);
-      p[2] = tools::to_byte(c.b);
+      p[0] = app::to_byte(c.r);
+      p[1] = app::to_byte(c.g);
+      p[2] = app::to_byte(c.b);
     }
   }
   return img;
@@ -142,7 +142,7 @@ void run(const RenderOptions& o) {
   std::vector<std::string> sets = o.sets;
   if (o.width != kUnset) sets.push_back("image.width=" + std::to_string(o.width));
   if (o.height != kUnset) sets.push_back("image.height=" + std::to_string(o.height));
-  const Scene scene = load_scene(o.scene, sets);
+  const Scene scene = app::load_scene(o.scene, sets);
   RenderSettings st = scene.settings;
   if (!o.method.empty()) st.method = parse_method(o.method, &st.grid_n);
   if (o.max_level >= 0) st.max_level = o.max_level;
@@ -156,7 +156,7 @@ void run(const RenderOptions& o) {
   st.validate_window(scene.width, scene.height);
   if (o.threads < 0 || o.threads > 1024)
     throw SettingError("--threads must be in [0, 1024] (0 = all cores)");
-  if (tools::extension_of(o.out) != "png")
+  if (app::extension_of(o.out) != "png")
     throw Error("-o: the image must be a .png file, got '" + o.out + "'");
   if (!o.aov.empty()) {
     std::error_code ec;
@@ -164,16 +164,16 @@ void run(const RenderOptions& o) {
     if (ec) throw Error("--aov: cannot create directory '" + o.aov + "': " + ec.message());
   }
 
-  tools::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
   const Film film = render(scene, st, exec);
 
-  tools::write_png(o.out, color_image(film));
+  app::write_png(o.out, color_image(film));
   if (!o.aov.empty()) {
-    tools::Image8 cert(film.width, film.height, 3);
-    tools::Image8 cov(film.width, film.height, 3);
+    app::Image8 cert(film.width, film.height, 3);
+    app::Image8 cov(film.width, film.height, 3);
     for (int y = 0; y < film.height; ++y) {
       for (int x = 0; x < film.width; ++x) {
         certificate_color(film.cert(x, y), cert.at(x, y));
@@ -184,13 +184,13 @@ void run(const RenderOptions& o) {
       }
     }
     const std::string d = o.aov + "/";
-    tools::write_png(d + "certificate.png", cert);
-    tools::write_png(d + "coverage.png", cov);
-    tools::write_png(d + "leaves.png", heat_map(film, film.leaves));
-    tools::write_png(d + "evals.png", heat_map(film, film.evals));
+    app::write_png(d + "certificate.png", cert);
+    app::write_png(d + "coverage.png", cov);
+    app::write_png(d + "leaves.png", heat_map(film, film.leaves));
+    app::write_png(d + "evals.png", heat_map(film, film.evals));
   }
   const nlohmann::json rep = report_json(scene, film, exec.resolved_threads());
-  if (!o.report.empty()) tools::write_text_atomically(o.report, rep.dump(2) + "\n");
+  if (!o.report.empty()) app::write_text_atomically(o.report, rep.dump(2) + "\n");
   if (!o.quiet) {
     const FilmStats& s = film.stats;
     const double px = s.pixels ? double(s.pixels) : 1.0;
