@@ -15,6 +15,7 @@
 #include "app/scene_loading.h"
 #include "core/error.h"
 #include "iaa/bench.h"
+#include "iaa/render_flags.h"
 #include "render/render.h"
 
 namespace iaa::cli {
@@ -29,6 +30,7 @@ struct BenchRenderOptions {
   int ref_grid = 16;
   std::string json;
   std::vector<std::string> sets;
+  RenderFlags flags;
 };
 
 /// The --scene-dir given, else data/scenes from the working directory, else relative to the
@@ -102,6 +104,10 @@ void run(const BenchRenderOptions& o) {
   if (o.runs < 1 || o.runs > 100) throw SettingError("--runs must be in [1, 100]");
   if (o.ref_grid < 1 || o.ref_grid > RenderSettings::kMaxGrid)
     throw SettingError("--ref-grid must be in [1, 64]");
+  {
+    RenderSettings checked;  // the flags' ranges, before any scene is loaded
+    apply_render_flags(o.flags, &checked);
+  }
   const std::string dir = find_scene_dir(o.dir);
   Exec exec;
   exec.threads = o.threads;
@@ -116,7 +122,9 @@ void run(const BenchRenderOptions& o) {
     sets.push_back("image.width=" + std::to_string(o.size));
     sets.push_back("image.height=" + std::to_string(o.size));
     const Scene scene = app::load_scene(dir + "/" + name + ".toml", sets);
-    RenderSettings ref_st = scene.settings;
+    RenderSettings base = scene.settings;
+    apply_render_flags(o.flags, &base);
+    RenderSettings ref_st = base;
     ref_st.method = RenderMethod::kGrid;
     ref_st.grid_n = o.ref_grid;
     const Film ref = render(scene, ref_st, exec);
@@ -129,7 +137,7 @@ void run(const BenchRenderOptions& o) {
     Film films[kN];
     for (int r = 0; r < o.runs; ++r) {
       for (std::size_t i = 0; i < kN; ++i) {
-        RenderSettings st = scene.settings;
+        RenderSettings st = base;
         st.method = kMethods[i];
         films[i] = render(scene, st, exec);
         times[i].push_back(films[i].seconds);
@@ -200,6 +208,7 @@ void setup(CLI::App& app) {
   app.add_option("--threads", o->threads, "worker threads (0 = all cores)");
   app.add_option("--ref-grid", o->ref_grid, "rays per pixel side of the reference (default 16)");
   app.add_option("--set", o->sets, "override a scene key for every scene, KEY=VALUE (repeatable)");
+  add_render_flags(app, &o->flags, 0);
   app.add_option("--json", o->json, "also write the table as JSON");
   app.footer(
       "Examples:\n"
