@@ -25,11 +25,12 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLMultiBlockDataWriter.h>
 
-#include "common/png.h"
+#include "app/png.h"
 #include "core/error.h"
 #include "scene/camera.h"
 #include "viz/enclosure_vtk.h"
 #include "viz/scene_render.h"
+#include "viz/soup_vtk.h"
 
 namespace iaa::viz {
 
@@ -224,7 +225,7 @@ vtkSmartPointer<vtkPolyData> hit_points(const PixelTrace& tr, const std::vector<
     const vtkIdType id = pts->InsertNextPoint(p.x, p.y, p.z);
     verts->InsertNextCell(1, &id);
     normals->InsertNextTuple3(n.x, n.y, n.z);
-    color->InsertNextTuple3(tools::to_byte(c.x), tools::to_byte(c.y), tools::to_byte(c.z));
+    color->InsertNextTuple3(app::to_byte(c.x), app::to_byte(c.y), app::to_byte(c.z));
     beam->InsertNextValue(b);
     centre->InsertNextValue(hit ? 1 : 0);
   };
@@ -265,25 +266,6 @@ vtkSmartPointer<vtkPolyData> sample_rays(const PixelTrace& tr, const CameraFrame
   pd->SetLines(lines);
   pd->GetCellData()->AddArray(hit);
   pd->GetCellData()->AddArray(certified);
-  return pd;
-}
-
-vtkSmartPointer<vtkPolyData> mesh_polydata(const TriangleSoup& soup) {
-  auto pd = vtkSmartPointer<vtkPolyData>::New();
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  pts->SetNumberOfPoints(static_cast<vtkIdType>(soup.vertices.size()));
-  for (std::size_t i = 0; i < soup.vertices.size(); ++i) {
-    const Vec3& v = soup.vertices[i];
-    pts->SetPoint(static_cast<vtkIdType>(i), v.x, v.y, v.z);
-  }
-  vtkNew<vtkCellArray> tris;
-  for (const auto& t : soup.triangles) {
-    const vtkIdType ids[3] = {t[0], t[1], t[2]};
-    tris->InsertNextCell(3, ids);
-  }
-  pd->SetPoints(pts);
-  pd->SetPolys(tris);
   return pd;
 }
 
@@ -334,7 +316,7 @@ vtkSmartPointer<vtkMultiBlockDataSet> inspection_to_multiblock(const InspectionI
                       enclosure_to_grid(*in.enclosure,
                                         EnclosureInfo{in.scene->expression, in.enclose_settings})});
   }
-  if (in.mesh) blocks.push_back({kMeshBlock, mesh_polydata(*in.mesh)});
+  if (in.mesh) blocks.push_back({kMeshBlock, soup_to_polydata(*in.mesh)});
 
   auto mb = vtkSmartPointer<vtkMultiBlockDataSet>::New();
   mb->SetNumberOfBlocks(static_cast<unsigned>(blocks.size()));

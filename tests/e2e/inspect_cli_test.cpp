@@ -15,7 +15,7 @@
 
 #include "cli_run.h"
 
-#include "common/png.h"
+#include "app/png.h"
 
 namespace {
 
@@ -53,7 +53,7 @@ std::string certificate_of(const std::uint8_t* p) {
 }
 
 /// Pixels to check: the neck's row, silhouettes (a certificate change to the right), background.
-std::vector<std::pair<int, int>> sample_pixels(const iaa::tools::Image8& cert) {
+std::vector<std::pair<int, int>> sample_pixels(const iaa::app::Image8& cert) {
   std::vector<std::pair<int, int>> out;
   for (int x = 248; x <= 272; x += 2) out.push_back({x, 250});
   int seen = 0;
@@ -75,8 +75,8 @@ TEST(InspectCli, JsonAgreesWithTheRenderedPngAndCertificates) {
     const Outcome r = run("'" + kBin + "/iaa' render '" + kScene + "' -q --method " + method +
                           " -o '" + png + "' --aov '" + aov + "'");
     ASSERT_EQ(r.status, 0) << r.err;
-    const iaa::tools::Image8 img = iaa::tools::read_png(png);
-    const iaa::tools::Image8 cert = iaa::tools::read_png(aov + "/certificate.png");
+    const iaa::app::Image8 img = iaa::app::read_png(png);
+    const iaa::app::Image8 cert = iaa::app::read_png(aov + "/certificate.png");
     const auto pixels = sample_pixels(cert);
     ASSERT_GT(pixels.size(), 30u);
     int uncertain_neck = 0;
@@ -138,7 +138,7 @@ TEST(InspectCli, VtkPictureIsNotBlankAndShowsTheColours) {
   EXPECT_NE(r.out.find("wrote " + vtm), std::string::npos);
   r = run("env -u DISPLAY '" + kBin + "/iaa-viz' '" + vtm + "' --size 480x360 -o '" + png + "'");
   ASSERT_EQ(r.status, 0) << r.err;
-  const iaa::tools::Image8 img = iaa::tools::read_png(png);
+  const iaa::app::Image8 img = iaa::app::read_png(png);
   ASSERT_EQ(img.width, 480);
   ASSERT_EQ(img.height, 360);
   int non_white = 0, reddish = 0, bluish = 0, orange = 0, dark = 0;

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "app/png.h"
 #include "cli_run.h"
-#include "common/png.h"
 
 namespace {
 
@@ -44,7 +44,7 @@ struct Colours {
   int grey = 0;    ///< mesh (0.78, 0.78, 0.84): neutral, a little blue
 };
 
-Colours count(const iaa::tools::Image8& img, int x0, int x1) {
+Colours count(const iaa::app::Image8& img, int x0, int x1) {
   Colours c;
   for (int y = 0; y < img.height; ++y) {
     for (int x = x0; x < x1; ++x) {
@@ -89,7 +89,7 @@ TEST_F(VizCli, UnderXvfbRunTheBoxesHaveTheirClassColours) {
   EXPECT_NE(r.out.find("display :"), std::string::npos) << r.out;
   EXPECT_EQ(r.err.find("private Xvfb"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("wrote " + png + " (320x240, 1 layers)"), std::string::npos) << r.out;
-  const iaa::tools::Image8 img = iaa::tools::read_png(png);
+  const iaa::app::Image8 img = iaa::app::read_png(png);
   ASSERT_EQ(img.width, 320);
   ASSERT_EQ(img.height, 240);
   const Colours c = count(img, 0, img.width);
@@ -117,7 +117,7 @@ TEST_F(VizCli, MeshShortcutShowsTheMeshBesideItsEnclosure) {
   EXPECT_NE(r.out.find("mesh: "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" triangles from "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("wrote " + png + " (480x240, 3 layers)"), std::string::npos) << r.out;
-  const iaa::tools::Image8 img = iaa::tools::read_png(png);
+  const iaa::app::Image8 img = iaa::app::read_png(png);
   ASSERT_EQ(img.width, 480);
   ASSERT_EQ(img.height, 240);
   const Colours left = count(img, 0, img.width / 2), right = count(img, img.width / 2, img.width);
@@ -139,7 +139,7 @@ TEST_F(VizCli, CameraSceneAutoAndExplicit) {
     const Outcome r = run(viz() + " enclose " + quoted(kScene) + " --depth 4 -q --size 160x120" +
                           " --camera " + cam + " -o " + quoted(png));
     ASSERT_EQ(r.status, 0) << cam << ": " << r.err;
-    const iaa::tools::Image8 img = iaa::tools::read_png(png);
+    const iaa::app::Image8 img = iaa::app::read_png(png);
     const Colours c = count(img, 0, img.width);
     EXPECT_GT(c.teal, 200) << cam << ": the boxes are not in view";
     EXPECT_GT(c.white, 200) << cam << ": no background";
@@ -249,7 +249,7 @@ TEST_F(VizCli, UnreachableDisplay) {
   EXPECT_NE(r.err.find("rendering on a private Xvfb"), std::string::npos) << r.err;
   EXPECT_NE(r.out.find("wrote " + png + " (160x120, 1 layers)"), std::string::npos) << r.out;
   ASSERT_TRUE(fs::exists(png));
-  EXPECT_GT(count(iaa::tools::read_png(png), 0, 160).teal, 200);
+  EXPECT_GT(count(iaa::app::read_png(png), 0, 160).teal, 200);
 }
 
 }  // namespace

@@ -17,13 +17,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/files.h"
+#include "app/files.h"
 #include "core/error.h"
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/bench.h"
 #include "iaa/bench_scenes.h"
-#include "iaa/scene_loading.h"
+#include "app/scene_loading.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/enclosure_vtk.h"
 #endif
@@ -66,7 +66,7 @@ void run(const BenchOptions& o) {
   const std::string dir = find_scene_dir(o.scene_dir);
   std::vector<Scene> scenes;
   for (const std::string& name : o.surfaces) {
-    scenes.push_back(load_scene(dir + "/" + name + ".toml"));
+    scenes.push_back(app::load_scene(dir + "/" + name + ".toml"));
   }
   bool write = !o.no_write;
 #ifndef IAA_HAVE_VIZ
@@ -170,7 +170,7 @@ void run(const BenchOptions& o) {
                         {"threads", exec.resolved_threads()},
                         {"runs", o.runs},
                         {"rows", rows}};
-    tools::write_text_atomically(o.json, j.dump(2) + "\n");
+    app::write_text_atomically(o.json, j.dump(2) + "\n");
     std::printf("\nwrote %s\n", o.json.c_str());
   }
 }

@@ -7,7 +7,8 @@
 #include <cstdio>
 #include <ctime>
 
-#include "common/files.h"
+#include "app/files.h"
+#include "app/scene_loading.h"
 #include "compare/compare.h"
 #include "iaa/bench.h"
 #include "iaa/mesh_common.h"
@@ -55,8 +56,7 @@ void run(const Options& o) {
   for (const std::string& name : o.surfaces) {
     const std::string path = o.scenes + "/" + name + ".toml";
     const std::string size = std::to_string(o.image);
-    Scene scene =
-        parse_scene(tools::read_file(path), path, {{"image.width", size}, {"image.height", size}});
+    Scene scene = app::load_scene(path, {"image.width=" + size, "image.height=" + size});
     meshing::Surface s;
     s.name = scene.name;
     s.expression = scene.expression;
@@ -126,7 +126,7 @@ void run(const Options& o) {
   if (!o.no_scaling && exec.resolved_threads() > 1 && !o.surfaces.empty() &&
       std::find(methods.begin(), methods.end(), meshing::Method::kCgal) != methods.end()) {
     const std::string path = o.scenes + "/" + o.surfaces.front() + ".toml";
-    const Scene scene = parse_scene(tools::read_file(path), path);
+    const Scene scene = app::load_scene(path);
     meshing::Surface s;
     s.name = scene.name;
     s.expression = scene.expression;
@@ -154,7 +154,7 @@ void run(const Options& o) {
   if (!o.json.empty()) {
     nlohmann::json j = {{"rows", out}};
     if (!scaling.is_null()) j["cgal_thread_scaling"] = scaling;
-    tools::write_text_atomically(o.json, j.dump(2) + "\n");
+    app::write_text_atomically(o.json, j.dump(2) + "\n");
   }
 #endif
 }

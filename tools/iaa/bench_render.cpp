@@ -9,12 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/files.h"
-#include "common/png.h"
+#include "app/files.h"
+#include "app/png.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "iaa/bench.h"
 #include "iaa/bench_scenes.h"
-#include "iaa/scene_loading.h"
+#include "iaa/render_flags.h"
 #include "render/render.h"
 
 namespace iaa::cli {
@@ -29,6 +30,7 @@ struct BenchRenderOptions {
   int ref_grid = 16;
   std::string json;
   std::vector<std::string> sets;
+  RenderFlags flags;
 };
 
 /// a / b as JSON, null when b is 0 (no baseline to compare with).
@@ -46,7 +48,7 @@ std::string ratio_cell(double a, double b) {
 
 /// Display value (8-bit sRGB-ish) in [0, 1], what a viewer of the PNG sees.
 double display(float v) {
-  return tools::to_byte(v) / 255.0;
+  return app::to_byte(v) / 255.0;
 }
 
 struct Quality {
@@ -83,6 +85,10 @@ void run(const BenchRenderOptions& o) {
   if (o.runs < 1 || o.runs > 100) throw SettingError("--runs must be in [1, 100]");
   if (o.ref_grid < 1 || o.ref_grid > RenderSettings::kMaxGrid)
     throw SettingError("--ref-grid must be in [1, 64]");
+  {
+    RenderSettings checked;  // the flags' ranges, before any scene is loaded
+    apply_render_flags(o.flags, &checked);
+  }
   const std::string dir = find_scene_dir(o.dir);
   Exec exec;
   exec.threads = o.threads;
@@ -96,8 +102,10 @@ void run(const BenchRenderOptions& o) {
     std::vector<std::string> sets = o.sets;
     sets.push_back("image.width=" + std::to_string(o.size));
     sets.push_back("image.height=" + std::to_string(o.size));
-    const Scene scene = load_scene(dir + "/" + name + ".toml", sets);
-    RenderSettings ref_st = scene.settings;
+    const Scene scene = app::load_scene(dir + "/" + name + ".toml", sets);
+    RenderSettings base = scene.settings;
+    apply_render_flags(o.flags, &base);
+    RenderSettings ref_st = base;
     ref_st.method = RenderMethod::kGrid;
     ref_st.grid_n = o.ref_grid;
     const Film ref = render(scene, ref_st, exec);
@@ -110,7 +118,7 @@ void run(const BenchRenderOptions& o) {
     Film films[kN];
     for (int r = 0; r < o.runs; ++r) {
       for (std::size_t i = 0; i < kN; ++i) {
-        RenderSettings st = scene.settings;
+        RenderSettings st = base;
         st.method = kMethods[i];
         films[i] = render(scene, st, exec);
         times[i].push_back(films[i].seconds);
@@ -164,7 +172,7 @@ void run(const BenchRenderOptions& o) {
       "adaptive's, measured in this run.\n"
       "RMSE on 8-bit display values in [0, 1]; missed = the reference sees surface, the method\n"
       "shows pure background; spurious = the reference sees none, the method shows some.\n");
-  if (!o.json.empty()) tools::write_text_atomically(o.json, out.dump(2) + "\n");
+  if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
 }
 
 void setup(CLI::App& app) {
@@ -181,6 +189,7 @@ void setup(CLI::App& app) {
   app.add_option("--threads", o->threads, "worker threads (0 = all cores)");
   app.add_option("--ref-grid", o->ref_grid, "rays per pixel side of the reference (default 16)");
   app.add_option("--set", o->sets, "override a scene key for every scene, KEY=VALUE (repeatable)");
+  add_render_flags(app, &o->flags, 0);
   app.add_option("--json", o->json, "also write the table as JSON");
   app.footer(
       "Examples:\n"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "common/files.h"
+#include "app/files.h"
 #include "core/error.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
@@ -21,7 +21,7 @@
 #include "expr/eval_point_grad.h"
 #include "iaa/bench.h"
 #include "iaa/bench_scenes.h"
-#include "iaa/scene_loading.h"
+#include "app/scene_loading.h"
 
 namespace iaa::cli {
 namespace {
@@ -98,7 +98,7 @@ void run(const Options& o) {
   const std::string dir = find_scene_dir(o.scene_dir);
   std::vector<Scene> scenes;
   for (const Surface& s : kSurfaces) {
-    scenes.push_back(load_scene(dir + "/" + s.scene + ".toml"));
+    scenes.push_back(app::load_scene(dir + "/" + s.scene + ".toml"));
     check_native(s, scenes.back());
   }
   nlohmann::json out = nlohmann::json::array();
@@ -175,7 +175,7 @@ void run(const Options& o) {
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"
       "target: interval within %gx of point evaluation per operation\n",
       o.runs, o.points, kIntervalOverPointTarget);
-  if (!o.json.empty()) tools::write_text_atomically(o.json, out.dump(2) + "\n");
+  if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
 }
 
 void setup(CLI::App& app) {

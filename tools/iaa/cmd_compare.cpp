@@ -4,9 +4,10 @@
 #include <cstdio>
 #include <memory>
 
-#include "common/files.h"
-#include "common/png.h"
-#include "common/progress_bar.h"
+#include "app/files.h"
+#include "app/png.h"
+#include "app/progress_bar.h"
+#include "app/scene_loading.h"
 #include "compare/compare.h"
 #include "core/error.h"
 #include "iaa/command.h"
@@ -45,24 +46,22 @@ void run(const CompareOptions& o) {
   throw Error("this iaa was built without " + missing +
               ": meshes cannot be read or ray-cast, no file was written");
 #else
-  if (tools::extension_of(o.output) != "png") {
+  if (app::extension_of(o.output) != "png") {
     throw Error("-o: the diff picture must be a .png file, got '" + o.output + "'");
   }
-  if (!o.report.empty() && tools::extension_of(o.report) != "json") {
+  if (!o.report.empty() && app::extension_of(o.report) != "json") {
     throw Error("--report: the report must be a .json file, got '" + o.report + "'");
   }
   if (o.rays < 1 || o.rays > 16)
     throw SettingError("--rays must be in 1..16, got " + std::to_string(o.rays));
-  std::vector<SceneOverride> overrides;
-  for (const std::string& s : o.sets) overrides.push_back(parse_override(s));
-  const Scene scene = parse_scene(tools::read_file(o.scene), o.scene, overrides);
-  const MeshFormat format = mesh_format_from_extension(tools::extension_of(o.mesh));
+  const Scene scene = app::load_scene(o.scene, o.sets);
+  const MeshFormat format = mesh_format_from_extension(app::extension_of(o.mesh));
   // Held as an OpenMesh TriMesh on reading; cast as plain triangles (exact in PLY files written
   // by iaa mesh, float from other files).
-  const TriangleSoup mesh = decode_mesh(tools::read_file(o.mesh), format, o.mesh).triangles();
+  const TriangleSoup mesh = decode_mesh(app::read_file(o.mesh), format, o.mesh).triangles();
   check_mesh(mesh, o.mesh);
 
-  tools::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
@@ -78,15 +77,15 @@ void run(const CompareOptions& o) {
   bar.finish();
 
   const std::vector<Rgb> pic = diff_picture(film, cmp);
-  tools::Image8 img(film.width, film.height, 3);
+  app::Image8 img(film.width, film.height, 3);
   for (int y = 0; y < film.height; ++y) {
     for (int x = 0; x < film.width; ++x) {
       const Rgb& c = pic[film.index(x, y)];
       std::uint8_t* p = img.at(x, y);
-      p[0] = tools::to_byte(c.r), p[1] = tools::to_byte(c.g), p[2] = tools::to_byte(c.b);
+      p[0] = app::to_byte(c.r), p[1] = app::to_byte(c.g), p[2] = app::to_byte(c.b);
     }
   }
-  tools::write_png(o.output, img);
+  app::write_png(o.output, img);
 
   const CompareCounts& k = cmp.counts;
   std::printf("scene        %s (%dx%d), mesh %s: %zu triangles\n", scene.name.c_str(), film.width,
@@ -134,7 +133,7 @@ void run(const CompareOptions& o) {
     }
     j["lost_at"] = lost;
     j["wrong_at"] = wrong;
-    tools::write_text_atomically(o.report, j.dump(2) + "\n");
+    app::write_text_atomically(o.report, j.dump(2) + "\n");
     std::printf("report       %s\n", o.report.c_str());
   }
 #endif

@@ -12,8 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/files.h"
-#include "common/progress_bar.h"
+#include "app/files.h"
+#include "app/progress_bar.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "enclose/octree.h"
 #include "expr/tape.h"
@@ -58,18 +59,6 @@ std::string brief(double v) {
   char b[40];
   std::snprintf(b, sizeof b, "%.6g", v);
   return b;
-}
-
-Params parse_params(const std::vector<std::string>& items) {
-  Params p;
-  for (const std::string& item : items) {
-    const auto eq = item.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      throw Error("--param: expected NAME=VALUE, got '" + item + "'");
-    }
-    p[item.substr(0, eq)] = parse_double(item.substr(eq + 1), "--param " + item.substr(0, eq));
-  }
-  return p;
 }
 
 /// Parses X0:X1,Y0:Y1,Z0:Z1 (command.h's parse_box); an empty range is an error too, since a box
@@ -136,7 +125,7 @@ void run(const EncloseOptions& o) {
     throw Error("-o: this iaa was built without VTK (IAA_WITH_VTK=OFF); no .vtu output");
   }
 #endif
-  if (!o.output.empty() && tools::extension_of(o.output) != "vtu") {
+  if (!o.output.empty() && app::extension_of(o.output) != "vtu") {
     throw Error("-o: the output must be a .vtu file, got '" + o.output + "'");
   }
   // Fail before the work, not after it, when an output cannot be written.
@@ -156,9 +145,7 @@ void run(const EncloseOptions& o) {
   std::shared_ptr<const Tape> tape;
   EncloseSettings s;
   if (!o.scene.empty()) {
-    std::vector<SceneOverride> overrides;
-    for (const std::string& set : o.sets) overrides.push_back(parse_override(set));
-    const Scene scene = parse_scene(tools::read_file(o.scene), o.scene, overrides);
+    const Scene scene = app::load_scene(o.scene, o.sets);
     expression = scene.expression;
     tape = scene.tape;
     s.bounds = o.bounds.empty() ? scene.bounds : parse_bounds(o.bounds);
@@ -183,7 +170,7 @@ void run(const EncloseOptions& o) {
     throw SettingError(m);
   }
 
-  tools::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
@@ -207,7 +194,7 @@ void run(const EncloseOptions& o) {
 #ifdef IAA_HAVE_VIZ
   if (!o.output.empty()) {
     const auto t1 = std::chrono::steady_clock::now();
-    tools::write_atomically(o.output, [&](const std::string& tmp) {
+    app::write_atomically(o.output, [&](const std::string& tmp) {
       exec.run([&] {
         viz::write_enclosure_vtu(tmp, enc, viz::EnclosureInfo{expression, s}, &bar);
       });
@@ -276,7 +263,7 @@ void run(const EncloseOptions& o) {
     j["expansion_signs"] = enc.expansion_signs;
     j["time_s"] = {{"enclose", t_enclose}, {"write", t_write}};
     if (!o.output.empty()) j["output"] = o.output;
-    tools::write_text_atomically(o.report, j.dump(2) + "\n");
+    app::write_text_atomically(o.report, j.dump(2) + "\n");
     std::printf("report       %s\n", o.report.c_str());
   }
 }

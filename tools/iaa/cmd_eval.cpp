@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "common/files.h"
+#include "app/files.h"
 #include "core/error.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
@@ -37,25 +37,11 @@ std::string fmt(const Interval& i) {
   return "[" + fmt(i.lo()) + ", " + fmt(i.hi()) + "]";
 }
 
-Params parse_params(const std::vector<std::string>& items) {
-  Params p;
-  for (const std::string& item : items) {
-    const auto eq = item.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      throw Error("--param: expected NAME=VALUE, got '" + item + "'");
-    }
-    const std::string name = item.substr(0, eq);
-    const std::string value = item.substr(eq + 1);
-    p[name] = parse_double(value, "--param " + name);
-  }
-  return p;
-}
-
 void run(const EvalOptions& o) {
   if (o.has_expr == !o.file.empty()) {
     throw Error("give the expression either as an argument or with --file (exactly one)");
   }
-  const std::string text = o.file.empty() ? o.expr : tools::read_file(o.file);
+  const std::string text = o.file.empty() ? o.expr : app::read_file(o.file);
   const Tape tape = Tape::parse(text, parse_params(o.params));
   // The expression as the tape reads it, cut for long input (a sum of 10^5 terms): --tape lists
   // every operation.

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "common/files.h"
-#include "common/progress_bar.h"
+#include "app/files.h"
+#include "app/progress_bar.h"
 #include "core/error.h"
 #include "iaa/command.h"
 #include "iaa/mesh_common.h"
@@ -37,15 +37,15 @@ void run(const MeshOptions& o) {
   throw Error(
       "this iaa was built without OpenMesh (IAA_WITH_OPENMESH=OFF): meshes cannot be written");
 #else
-  const MeshFormat format = mesh_format_from_extension(tools::extension_of(o.output));
-  if (!o.report.empty() && tools::extension_of(o.report) != "json") {
+  const MeshFormat format = mesh_format_from_extension(app::extension_of(o.output));
+  if (!o.report.empty() && app::extension_of(o.report) != "json") {
     throw Error("--report: the report must be a .json file, got '" + o.report + "'");
   }
   const meshing::Surface surface =
       meshing::load_surface(o.scene, o.expr, o.bounds, o.params, o.sets);
   o.p.validate();
 
-  tools::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
@@ -67,7 +67,7 @@ void run(const MeshOptions& o) {
   run.soup = {};
   const std::size_t duplicated = mesh.duplicated_vertices();
   const std::string bytes = encode_mesh(mesh, format, o.binary);
-  tools::write_text_atomically(o.output, bytes);
+  app::write_text_atomically(o.output, bytes);
 
   std::optional<Enclosure> enc = std::move(run.enclosure);
   MeshReport rep;
@@ -114,7 +114,7 @@ void run(const MeshOptions& o) {
     j["mesh_file_coordinates"] = format == MeshFormat::kPly
                                      ? "float x y z, and exact double x_double y_double z_double"
                                      : "float x y z (rounded from the mesher's double)";
-    tools::write_text_atomically(o.report, j.dump(2) + "\n");
+    app::write_text_atomically(o.report, j.dump(2) + "\n");
     std::printf("report       %s\n", o.report.c_str());
   }
 #endif

@@ -5,61 +5,31 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "common/files.h"
-#include "common/png.h"
-#include "common/progress_bar.h"
+#include "app/files.h"
+#include "app/png.h"
+#include "app/progress_bar.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "iaa/command.h"
-#include "iaa/scene_loading.h"
+#include "iaa/render_flags.h"
 #include "render/render.h"
 
 namespace iaa::cli {
 namespace {
 
-/// Marks an integer option that was not given.
-constexpr int kUnset = -2147483647;
-
 struct RenderOptions {
   std::string scene;
   std::vector<std::string> sets;
   std::string out;
-  std::string method;
-  int max_level = -1;
-  double threshold = -1, depth_tol = -1, adaptive_threshold = -1;
-  int width = kUnset, height = kUnset;
-  std::string window;
+  RenderFlags flags;
   int threads = 0;
-  bool no_shadows = false, shadows = false;
   std::string aov;
   std::string report;
   bool quiet = false;
 };
-
-PixelWindow parse_window(const std::string& text) {
-  std::stringstream ss(text);
-  std::string item;
-  std::vector<int> v;
-  while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    long x = 0;
-    try {
-      x = std::stol(item, &used);
-    } catch (...) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || x < 0 || x > 1000000) {
-      throw Error("--window: '" + item + "' is not a pixel coordinate (expected X0,Y0,X1,Y1)");
-    }
-    v.push_back(static_cast<int>(x));
-  }
-  if (v.size() != 4)
-    throw Error("--window: expected four integers X0,Y0,X1,Y1, got '" + text + "'");
-  return {v[0], v[1], v[2], v[3]};
-}
 
 // ---- AOV images -----------------------------------------------------------------------------
 
@@ -78,8 +48,8 @@ void certificate_color(PixelCertificate c, std::uint8_t* p) {
 }
 
 /// Heat map (black, red, yellow, white) of a count on a log scale up to the image's maximum.
-tools::Image8 heat_map(const Film& f, const std::vector<std::uint32_t>& v) {
-  tools::Image8 img(f.width, f.height, 3);
+app::Image8 heat_map(const Film& f, const std::vector<std::uint32_t>& v) {
+  app::Image8 img(f.width, f.height, 3);
   const std::uint32_t mx = v.empty() ? 0 : *std::max_element(v.begin(), v.end());
   const double scale = mx > 0 ? 1.0 / std::log1p(double(mx)) : 0.0;
   for (int y = 0; y < f.height; ++y) {
@@ -94,15 +64,15 @@ tools::Image8 heat_map(const Film& f, const std::vector<std::uint32_t>& v) {
   return img;
 }
 
-tools::Image8 color_image(const Film& f) {
-  tools::Image8 img(f.width, f.height, 3);
+app::Image8 color_image(const Film& f) {
+  app::Image8 img(f.width, f.height, 3);
   for (int y = 0; y < f.height; ++y) {
     for (int x = 0; x < f.width; ++x) {
       const Rgb& c = f.at(x, y);
       std::uint8_t* p = img.at(x, y);
-      p[0] = tools::to_byte(c.r);
-      p[1] = tools::to_byte(c.g);
-      p[2] = tools::to_byte(c.b);
+      p[0] = app::to_byte(c.r);
+      p[1] = app::to_byte(c.g);
+      p[2] = app::to_byte(c.b);
     }
   }
   return img;
@@ -138,25 +108,54 @@ nlohmann::json report_json(const Scene& scene, const Film& f, int threads) {
   return j;
 }
 
+/// The certificate, coverage, leaves and evaluations images, written into directory `dir`.
+void write_aovs(const Film& film, const std::string& dir) {
+  app::Image8 cert(film.width, film.height, 3);
+  app::Image8 cov(film.width, film.height, 3);
+  for (int y = 0; y < film.height; ++y) {
+    for (int x = 0; x < film.width; ++x) {
+      certificate_color(film.cert(x, y), cert.at(x, y));
+      const std::uint8_t c =
+          static_cast<std::uint8_t>(std::lround(255 * film.coverage[film.index(x, y)]));
+      std::uint8_t* p = cov.at(x, y);
+      p[0] = p[1] = p[2] = c;
+    }
+  }
+  const std::string d = dir + "/";
+  app::write_png(d + "certificate.png", cert);
+  app::write_png(d + "coverage.png", cov);
+  app::write_png(d + "leaves.png", heat_map(film, film.leaves));
+  app::write_png(d + "evals.png", heat_map(film, film.evals));
+}
+
+/// The summary on stdout: time, certificates, evaluations and what was written.
+void print_summary(const RenderOptions& o, const Scene& scene, const Film& film, int threads) {
+  const FilmStats& s = film.stats;
+  const double px = s.pixels ? double(s.pixels) : 1.0;
+  std::printf("%s: %dx%d, method %s, %.3f s on %d threads\n", scene.name.c_str(), film.width,
+              film.height, std::string(method_name(film.settings.method)).c_str(), film.seconds,
+              threads);
+  std::printf(
+      "  pixels: %llu certified empty, %llu certified covered, %llu uncertain; covered fraction "
+      "%.4f\n",
+      (unsigned long long)s.empty, (unsigned long long)s.covered, (unsigned long long)s.uncertain,
+      s.covered_area / px);
+  std::printf(
+      "  interval evaluations: %.1f per pixel (%llu on screen blocks); leaves: %.2f per pixel\n",
+      double(s.evals) / px, (unsigned long long)s.block_evals, double(s.leaves) / px);
+  std::printf("  wrote %s%s%s\n", o.out.c_str(),
+              o.aov.empty() ? "" : (", AOVs in " + o.aov).c_str(),
+              o.report.empty() ? "" : (", report " + o.report).c_str());
+}
+
 void run(const RenderOptions& o) {
-  std::vector<std::string> sets = o.sets;
-  if (o.width != kUnset) sets.push_back("image.width=" + std::to_string(o.width));
-  if (o.height != kUnset) sets.push_back("image.height=" + std::to_string(o.height));
-  const Scene scene = load_scene(o.scene, sets);
+  const Scene scene = app::load_scene(o.scene, with_image_size(o.flags, o.sets));
   RenderSettings st = scene.settings;
-  if (!o.method.empty()) st.method = parse_method(o.method, &st.grid_n);
-  if (o.max_level >= 0) st.max_level = o.max_level;
-  if (o.threshold >= 0) st.estimator_threshold = o.threshold;
-  if (o.depth_tol >= 0) st.depth_tolerance = o.depth_tol;
-  if (o.adaptive_threshold >= 0) st.adaptive_threshold = o.adaptive_threshold;
-  if (o.no_shadows) st.shadows = false;
-  if (o.shadows) st.shadows = true;
-  if (!o.window.empty()) st.window = parse_window(o.window);
-  st.validate();
+  apply_render_flags(o.flags, &st);
   st.validate_window(scene.width, scene.height);
   if (o.threads < 0 || o.threads > 1024)
     throw SettingError("--threads must be in [0, 1024] (0 = all cores)");
-  if (tools::extension_of(o.out) != "png")
+  if (app::extension_of(o.out) != "png")
     throw Error("-o: the image must be a .png file, got '" + o.out + "'");
   if (!o.aov.empty()) {
     std::error_code ec;
@@ -164,71 +163,26 @@ void run(const RenderOptions& o) {
     if (ec) throw Error("--aov: cannot create directory '" + o.aov + "': " + ec.message());
   }
 
-  tools::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
   const Film film = render(scene, st, exec);
 
-  tools::write_png(o.out, color_image(film));
-  if (!o.aov.empty()) {
-    tools::Image8 cert(film.width, film.height, 3);
-    tools::Image8 cov(film.width, film.height, 3);
-    for (int y = 0; y < film.height; ++y) {
-      for (int x = 0; x < film.width; ++x) {
-        certificate_color(film.cert(x, y), cert.at(x, y));
-        const std::uint8_t c =
-            static_cast<std::uint8_t>(std::lround(255 * film.coverage[film.index(x, y)]));
-        std::uint8_t* p = cov.at(x, y);
-        p[0] = p[1] = p[2] = c;
-      }
-    }
-    const std::string d = o.aov + "/";
-    tools::write_png(d + "certificate.png", cert);
-    tools::write_png(d + "coverage.png", cov);
-    tools::write_png(d + "leaves.png", heat_map(film, film.leaves));
-    tools::write_png(d + "evals.png", heat_map(film, film.evals));
-  }
+  app::write_png(o.out, color_image(film));
+  if (!o.aov.empty()) write_aovs(film, o.aov);
   const nlohmann::json rep = report_json(scene, film, exec.resolved_threads());
-  if (!o.report.empty()) tools::write_text_atomically(o.report, rep.dump(2) + "\n");
-  if (!o.quiet) {
-    const FilmStats& s = film.stats;
-    const double px = s.pixels ? double(s.pixels) : 1.0;
-    std::printf("%s: %dx%d, method %s, %.3f s on %d threads\n", scene.name.c_str(), film.width,
-                film.height, std::string(method_name(st.method)).c_str(), film.seconds,
-                exec.resolved_threads());
-    std::printf(
-        "  pixels: %llu certified empty, %llu certified covered, %llu uncertain; covered fraction "
-        "%.4f\n",
-        (unsigned long long)s.empty, (unsigned long long)s.covered, (unsigned long long)s.uncertain,
-        s.covered_area / px);
-    std::printf(
-        "  interval evaluations: %.1f per pixel (%llu on screen blocks); leaves: %.2f per pixel\n",
-        double(s.evals) / px, (unsigned long long)s.block_evals, double(s.leaves) / px);
-    std::printf("  wrote %s%s%s\n", o.out.c_str(),
-                o.aov.empty() ? "" : (", AOVs in " + o.aov).c_str(),
-                o.report.empty() ? "" : (", report " + o.report).c_str());
-  }
+  if (!o.report.empty()) app::write_text_atomically(o.report, rep.dump(2) + "\n");
+  if (!o.quiet) print_summary(o, scene, film, exec.resolved_threads());
 }
 
 void setup(CLI::App& app) {
   auto o = std::make_shared<RenderOptions>();
   add_scene_options(app, &o->scene, &o->sets);
   app.add_option("-o,--output", o->out, "output image (.png)")->required();
-  app.add_option("--method", o->method, "iaa (default), point, 'grid N' (or gridN), adaptive");
-  app.add_option("--max-level", o->max_level,
-                 "subdivision levels below the pixel (0..6, default 2)");
-  app.add_option("--threshold", o->threshold, "iaa: estimator threshold (0..2)");
-  app.add_option("--depth-tol", o->depth_tol, "iaa: depth tolerance relative to the beam width");
-  app.add_option("--adaptive-threshold", o->adaptive_threshold,
-                 "adaptive: colour threshold (0..1)");
-  app.add_option("--width", o->width, "image width in pixels (overrides the scene)");
-  app.add_option("--height", o->height, "image height in pixels (overrides the scene)");
-  app.add_option("--window", o->window, "render only pixels X0,Y0,X1,Y1 (X1, Y1 exclusive)");
+  add_render_flags(app, &o->flags, kMethodFlag | kImageSizeFlags | kWindowFlag);
   app.add_option("--threads", o->threads,
                  "worker threads (0 = all cores); the image does not depend on it");
-  app.add_flag("--no-shadows", o->no_shadows, "do not cast shadow rays");
-  app.add_flag("--shadows", o->shadows, "cast shadow rays");
   app.add_option(
       "--aov", o->aov,
       "write certificate.png, coverage.png, leaves.png and evals.png into this directory");

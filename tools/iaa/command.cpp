@@ -50,10 +50,6 @@ std::array<int, 2> parse_int_pair(const std::string& text, const std::string& wh
   return out;
 }
 
-}  // namespace iaa::cli
-
-namespace iaa::cli {
-
 Box3 parse_box(const std::string& text, const std::string& what) {
   static const char* kAxes[3] = {"x", "y", "z"};
   const auto ranges = split(text);
@@ -77,6 +73,26 @@ Box3 parse_box(const std::string& text, const std::string& what) {
     box.hi[i] = hi;
   }
   return box;
+}
+
+Params parse_params(const std::vector<std::string>& items) {
+  Params p;
+  for (const std::string& item : items) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw Error("--param: expected NAME=VALUE, got '" + item + "'");
+    }
+    const std::string name = item.substr(0, eq);
+    p[name] = parse_double(item.substr(eq + 1), "--param " + name);
+  }
+  return p;
+}
+
+void add_scene_options(CLI::App& app, std::string* path, std::vector<std::string>* overrides) {
+  app.add_option("scene", *path, "scene file (TOML, see docs/scene-format.md)")->required();
+  app.add_option("--set", *overrides,
+                 "override a scene key, KEY=VALUE with a dotted key (repeatable), e.g. "
+                 "camera.fov=30, image.width=200, surface.params.r=0.4");
 }
 
 }  // namespace iaa::cli

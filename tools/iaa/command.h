@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/vec.h"
+#include "expr/parser.h"
 
 namespace iaa::cli {
 
@@ -40,5 +41,13 @@ std::array<double, 3> parse_triple(const std::string& text, const std::string& w
 
 /// Parses "a,b" into two integers; throws iaa::Error naming `what` on failure.
 std::array<int, 2> parse_int_pair(const std::string& text, const std::string& what);
+
+/// Parses the `--param NAME=VALUE` items of an expression given on the command line; throws
+/// iaa::Error naming --param and the item on failure.
+Params parse_params(const std::vector<std::string>& items);
+
+/// Adds the positional SCENE argument and the repeatable `--set KEY=VALUE` option to a command;
+/// app::load_scene(path, overrides) loads what they name.
+void add_scene_options(CLI::App& app, std::string* path, std::vector<std::string>* overrides);
 
 }  // namespace iaa::cli

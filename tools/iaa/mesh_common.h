@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common/files.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "enclose/octree.h"
 #include "expr/tape.h"
@@ -37,24 +37,6 @@ struct Surface {
   std::optional<Scene> scene;
 };
 
-inline Scene load_scene(const std::string& path, const std::vector<std::string>& sets = {}) {
-  std::vector<SceneOverride> overrides;
-  for (const std::string& s : sets) overrides.push_back(parse_override(s));
-  return parse_scene(tools::read_file(path), path, overrides);
-}
-
-inline Params parse_params(const std::vector<std::string>& items) {
-  Params p;
-  for (const std::string& item : items) {
-    const auto eq = item.find('=');
-    if (eq == std::string::npos || eq == 0) {
-      throw Error("--param: expected NAME=VALUE, got '" + item + "'");
-    }
-    p[item.substr(0, eq)] = parse_double(item.substr(eq + 1), "--param " + item.substr(0, eq));
-  }
-  return p;
-}
-
 /// A scene path, or --expr with --bounds (and --param); exactly one of the two.
 inline Surface load_surface(const std::string& scene_path, const std::string& expr,
                             const std::string& bounds, const std::vector<std::string>& params,
@@ -62,7 +44,7 @@ inline Surface load_surface(const std::string& scene_path, const std::string& ex
   Surface s;
   if (!scene_path.empty()) {
     if (!expr.empty()) throw Error("give either a SCENE or --expr, not both");
-    Scene scene = load_scene(scene_path, sets);
+    Scene scene = app::load_scene(scene_path, sets);
     s.name = scene.name;
     s.expression = scene.expression;
     s.tape = scene.tape;

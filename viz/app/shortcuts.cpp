@@ -7,14 +7,11 @@
 #include <string>
 #include <vector>
 
-#include <vtkCellArray.h>
-#include <vtkNew.h>
-#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
 
-#include "common/files.h"
-#include "common/progress_bar.h"
+#include "app/progress_bar.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "io/scene_toml.h"
 #include "enclose/octree.h"
@@ -22,6 +19,7 @@
 #include "viz/app/view_options.h"
 #include "viz/enclosure_vtk.h"
 #include "viz/scene_render.h"
+#include "viz/soup_vtk.h"
 
 namespace iaa::viz {
 namespace {
@@ -35,12 +33,6 @@ struct ShortcutOptions {
   bool quiet = false;
   ViewOptions view;
 };
-
-Scene load(const ShortcutOptions& o) {
-  std::vector<SceneOverride> overrides;
-  for (const std::string& s : o.sets) overrides.push_back(parse_override(s));
-  return parse_scene(tools::read_file(o.scene), o.scene, overrides);
-}
 
 EncloseSettings enclose_settings(const Scene& scene, const ShortcutOptions& o) {
   EncloseSettings s;
@@ -60,36 +52,14 @@ Layer enclosure_layer(const Enclosure& enc, const Scene& scene, const EncloseSet
   return l;
 }
 
-/// The triangles of a soup as VTK polygons (double points, so nothing is rounded on the way).
-vtkSmartPointer<vtkPolyData> soup_to_polydata(const TriangleSoup& soup) {
-  auto pd = vtkSmartPointer<vtkPolyData>::New();
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  pts->SetNumberOfPoints(static_cast<vtkIdType>(soup.vertices.size()));
-  for (std::size_t i = 0; i < soup.vertices.size(); ++i) {
-    const Vec3& v = soup.vertices[i];
-    pts->SetPoint(static_cast<vtkIdType>(i), v.x, v.y, v.z);
-  }
-  vtkNew<vtkCellArray> tris;
-  tris->AllocateExact(static_cast<vtkIdType>(soup.triangles.size()),
-                      3 * static_cast<vtkIdType>(soup.triangles.size()));
-  for (const auto& t : soup.triangles) {
-    const vtkIdType ids[3] = {t[0], t[1], t[2]};
-    tris->InsertNextCell(3, ids);
-  }
-  pd->SetPoints(pts);
-  pd->SetPolys(tris);
-  return pd;
-}
-
 std::string default_title(const Scene& scene, const std::string& what) {
   return (scene.name.empty() ? std::string("scene") : scene.name) + ": " + what;
 }
 
 void run_enclose(const ShortcutOptions& o) {
-  const Scene scene = load(o);
+  const Scene scene = app::load_scene(o.scene, o.sets);
   const EncloseSettings s = enclose_settings(scene, o);
-  tools::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
@@ -116,11 +86,11 @@ void run_enclose(const ShortcutOptions& o) {
 }
 
 void run_mesh(const ShortcutOptions& o) {
-  const Scene scene = load(o);
+  const Scene scene = app::load_scene(o.scene, o.sets);
   OctreeMeshSettings ms;
   ms.enclose = enclose_settings(scene, o);
   ms.validate();
-  tools::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;

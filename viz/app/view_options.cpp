@@ -8,8 +8,9 @@
 #include <memory>
 #include <sstream>
 
-#include "common/files.h"
-#include "common/png.h"
+#include "app/files.h"
+#include "app/png.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "io/scene_toml.h"
 #include "viz/app/xserver.h"
@@ -102,10 +103,6 @@ ViewCamera parse_camera(const std::string& text) {
   return c;
 }
 
-Scene load_scene_file(const std::string& path) {
-  return parse_scene(tools::read_file(path), path);
-}
-
 ViewCamera camera_of(const Scene& s) {
   ViewCamera c;
   c.eye = s.camera.eye;
@@ -124,7 +121,7 @@ void check_view(const ViewOptions& o) {
   }
   if (o.camera != "scene" && o.camera != "auto" && o.camera != "default") parse_camera(o.camera);
   if (!o.output.empty()) {
-    if (tools::extension_of(o.output) != "png") {
+    if (app::extension_of(o.output) != "png") {
       throw Error("-o " + o.output + ": iaa-viz writes PNG images; give a file ending in .png");
     }
     const auto parent = std::filesystem::path(o.output).parent_path();
@@ -153,7 +150,7 @@ void show(const std::vector<Layer>& layers, const ViewOptions& o,
 
   std::unique_ptr<Scene> owned;
   if (!o.scene.empty()) {
-    owned = std::make_unique<Scene>(load_scene_file(o.scene));
+    owned = std::make_unique<Scene>(app::load_scene(o.scene));
     scene = owned.get();
   }
   std::optional<ViewCamera> scene_cam = recorded;
@@ -204,9 +201,9 @@ void show(const std::vector<Layer>& layers, const ViewOptions& o,
     xserver = PrivateXServer::start(w, h);
   }
   const RgbImage img = render_to_image(layers, v);
-  tools::Image8 out(img.width, img.height, 3);
+  app::Image8 out(img.width, img.height, 3);
   out.data = img.rgb;
-  tools::write_png(o.output, out);
+  app::write_png(o.output, out);
   std::printf("wrote %s (%dx%d, %zu layers)\n", o.output.c_str(), img.width, img.height,
               layers.size());
 }

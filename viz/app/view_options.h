@@ -35,9 +35,6 @@ std::pair<int, int> parse_size(const std::string& text);
 /// Parses "ex,ey,ez:lx,ly,lz:ux,uy,uz"; throws iaa::Error naming --camera.
 ViewCamera parse_camera(const std::string& text);
 
-/// Reads and parses a scene file; throws iaa::Error.
-Scene load_scene_file(const std::string& path);
-
 /// The camera of a scene as a ViewCamera.
 ViewCamera camera_of(const Scene& s);
 

@@ -1,10 +1,12 @@
-#include "common/progress_bar.h"
+// The terminal progress bar (progress_bar.h). Application layer: used by tools/ and viz/, never
+// by the library modules.
+#include "app/progress_bar.h"
 
 #include <unistd.h>
 
 #include <cstdio>
 
-namespace iaa::tools {
+namespace iaa::app {
 
 ProgressBar::ProgressBar(bool quiet) : enabled_(!quiet && ::isatty(STDERR_FILENO) != 0) {}
 
@@ -58,4 +60,4 @@ void ProgressBar::draw(bool final) {
   drawn_ = true;
 }
 
-}  // namespace iaa::tools
+}  // namespace iaa::app

@@ -1,3 +1,4 @@
+// Application layer: used by tools/ and viz/, never by the library modules.
 // PNG output (8-bit RGB or RGBA) through libpng, written atomically. The bytes depend only on the
 // pixels (no time stamps), so identical images give identical files.
 #pragma once
@@ -6,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace iaa::tools {
+namespace iaa::app {
 
 /// An 8-bit image, rows from the top, `channels` (3 = RGB, 4 = RGBA) bytes per pixel.
 struct Image8 {
@@ -30,4 +31,4 @@ Image8 read_png(const std::string& path);
 /// Converts a linear value in [0, 1] to an 8-bit sRGB-ish value (gamma 2.2), clamping.
 std::uint8_t to_byte(double v);
 
-}  // namespace iaa::tools
+}  // namespace iaa::app

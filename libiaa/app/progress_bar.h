@@ -1,3 +1,4 @@
+// Application layer: used by tools/ and viz/, never by the library modules.
 // A terminal progress bar implementing iaa::Progress. Draws on stderr only when stderr is a
 // terminal (and not when quiet); otherwise it is silent, so logs and CI output stay clean.
 #pragma once
@@ -9,7 +10,7 @@
 
 #include "core/exec.h"
 
-namespace iaa::tools {
+namespace iaa::app {
 
 class ProgressBar : public Progress {
  public:
@@ -33,4 +34,4 @@ class ProgressBar : public Progress {
   bool drawn_ = false;
 };
 
-}  // namespace iaa::tools
+}  // namespace iaa::app

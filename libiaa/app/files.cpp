@@ -1,4 +1,6 @@
-#include "common/files.h"
+// Whole-file reads and atomic writes (files.h). Application layer: used by tools/ and viz/, never
+// by the library modules.
+#include "app/files.h"
 
 #include <unistd.h>
 
@@ -11,7 +13,7 @@
 
 #include "core/error.h"
 
-namespace iaa::tools {
+namespace iaa::app {
 
 namespace fs = std::filesystem;
 
@@ -71,4 +73,4 @@ std::string extension_of(const std::string& path) {
   return e;
 }
 
-}  // namespace iaa::tools
+}  // namespace iaa::app

@@ -1,4 +1,6 @@
-#include "common/png.h"
+// PNG reading and writing through libpng (png.h). Application layer: used by tools/ and viz/,
+// never by the library modules.
+#include "app/png.h"
 
 #include <png.h>
 
@@ -7,10 +9,10 @@
 #include <cstdio>
 #include <memory>
 
-#include "common/files.h"
+#include "app/files.h"
 #include "core/error.h"
 
-namespace iaa::tools {
+namespace iaa::app {
 
 void write_png(const std::string& path, const Image8& image) {
   if (image.width <= 0 || image.height <= 0 || (image.channels != 3 && image.channels != 4)) {
@@ -66,4 +68,4 @@ std::uint8_t to_byte(double v) {
   return static_cast<std::uint8_t>(std::lround(std::pow(v, 1.0 / 2.2) * 255.0));
 }
 
-}  // namespace iaa::tools
+}  // namespace iaa::app

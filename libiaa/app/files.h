@@ -1,12 +1,13 @@
-// File input and output for the tools: whole-file reads with clear errors, and atomic writes
-// (write to a temporary file beside the target, then rename) so that a failed or interrupted
-// command never leaves a half-written output behind.
+// Application layer: used by tools/ and viz/, never by the library modules.
+// File input and output for the tools and the viewer: whole-file reads with clear errors, and
+// atomic writes (write to a temporary file beside the target, then rename) so that a failed or
+// interrupted command never leaves a half-written output behind.
 #pragma once
 
 #include <functional>
 #include <string>
 
-namespace iaa::tools {
+namespace iaa::app {
 
 /// Reads a whole file; throws iaa::Error naming the path when it cannot.
 std::string read_file(const std::string& path);
@@ -23,4 +24,4 @@ void write_text_atomically(const std::string& path, const std::string& contents)
 /// Lower-case extension of a path without the dot ("png" for "a/b.PNG"), empty if none.
 std::string extension_of(const std::string& path);
 
-}  // namespace iaa::tools
+}  // namespace iaa::app
