@@ -219,7 +219,7 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   if (parent && parent->result == BeamResult::kFull && parent->t_s <= a && a <= parent->t_far) {
     // Inherited proof: this beam's slices lie inside the parent's, where the signs are proved.
     // t_far stays the parent's: tighten_far() shortens it only where the estimator needs it
-    // (measured: a bisection step here on every child cost more than it saved).
+    // (a bisection step here on every child costs more than it saves).
     const double tf = parent->t_far;
     out.result = BeamResult::kFull;
     out.t_s = parent->t_s;
