@@ -21,7 +21,7 @@ namespace iaa {
 /// What the screen blocks above a pixel leave to its kernel.
 struct PixelJob {
   int x = 0, y = 0;
-  Interval range;                    ///< depths no ray of the pixel meets the surface before
+  Interval range;                    ///< depths left: no ray of the pixel meets the surface before
   const BeamSearch* full = nullptr;  ///< the block just above, when it is Full; else null
   MeanValueBudget mv;                ///< inherited from the block just above
 };
@@ -61,6 +61,7 @@ PixelResult adaptive_pixel(RenderContext& ctx, const PixelJob& job, AdaptiveCorn
 
 // ---- shared by the screen blocks and the kernels ---------------------------------------------
 
+/// A linear colour as the Film stores it.
 inline Rgb to_rgb(const Vec3& c) {
   return {static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z)};
 }
