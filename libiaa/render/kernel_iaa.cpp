@@ -2,7 +2,7 @@
 // a Full beam whose estimator is within the threshold, or at max_level; each such leaf is shaded
 // once at a point of its surface and weighted by its area (docs/render.md, "How").
 #include <algorithm>
-#include <cmath>
+#include <utility>
 
 #include "render/camera.h"
 #include "render/kernel.h"
@@ -99,7 +99,6 @@ class IaaPixel {
       : ctx_(ctx), su_(ctx.setup), st_(ctx.setup.settings), tr_(tr) {}
 
   PixelResult run(const PixelJob& job) {
-    shadow_cache_.clear(0);
     beam(PixelRect{double(job.x), double(job.y), double(job.x + 1), double(job.y + 1)}, 0,
          job.range, job.full, last_beam(tr_));
     PixelResult r;
@@ -264,7 +263,7 @@ class IaaPixel {
   const RenderSetup& su_;
   const RenderSettings& st_;
   PixelTrace* tr_;
-  ShadowCache shadow_cache_;  ///< shadow results of this pixel's leaves
+  ShadowCache shadow_cache_;  ///< shadow results of this pixel's leaves (empty at the start)
   Vec3 color_;                ///< sum of the leaves' colours times their areas
   double coverage_ = 0;       ///< sum of the leaves' weights times their areas
   std::uint32_t leaves_ = 0;
