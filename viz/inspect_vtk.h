@@ -35,10 +35,10 @@
 #include <vtkSmartPointer.h>
 
 #include "enclose/octree.h"
-#include "scene/scene.h"
 #include "mesh/triangle_soup.h"
-#include "scene/settings.h"
 #include "render/trace.h"
+#include "scene/scene.h"
+#include "scene/settings.h"
 
 namespace iaa::viz {
 

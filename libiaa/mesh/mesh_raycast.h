@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "core/exec.h"
-#include "scene/scene.h"
 #include "mesh/triangle_soup.h"
+#include "scene/scene.h"
 
 namespace iaa {
 

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "core/error.h"
-#include "scene/camera.h"
 #include "render/piece_stack.h"
+#include "scene/camera.h"
 
 namespace iaa {
 
@@ -131,16 +132,47 @@ const BeamSearch& traced(const BeamSearch& out, const char* reason, BeamTrace* t
   return out;
 }
 
-}  // namespace
+/// False when F certainly excludes 0 on the depth piece [a, b] of the beam with directions
+/// `dirs` (its box `box` is inside the bounds): by the natural enclosure or, on a `narrow` piece,
+/// by the mean-value form. Records each enclosure into `trace` when it is not null.
+bool piece_may_hit(RenderContext& ctx, const IBox& box, const IBox& dirs, double a, double b,
+                   bool narrow, BeamTrace* trace) {
+  // Where the natural enclosure of narrow pieces rarely excludes 0, the gradient evaluation of
+  // the mean-value form comes first: its value part is that same natural enclosure.
+  bool partial = false;
+  IGrad g;
+  const bool have_grad = narrow && ctx.mv.gradient_first(MeanValueBudget::kPiece);
+  if (have_grad) g = ctx.eval_grad(box, &partial);
+  const Interval f = have_grad ? g.v : ctx.eval(box, &partial);
+  const bool kept = !f.is_empty() && f.contains_zero();
+  if (narrow) ctx.mv.record_natural(MeanValueBudget::kPiece, !kept);
+  if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial, false});
+  if (!kept) return false;
+  // A piece a few tolerances wide near (but off) the surface often has 0 in its natural
+  // enclosure only through overestimation: the sharper mean-value form excludes it at once,
+  // where bisection would exclude it one tolerance-sized piece at a time.
+  if (partial || !narrow || !ctx.mv.allowed()) return true;
+  bool gpartial = false;
+  if (!have_grad) g = ctx.eval_grad(box, &gpartial);
+  const Interval fm =
+      gpartial ? Interval::whole() : piece_mean_value_form(ctx, box, g, dirs, Interval(a, b));
+  ctx.mv.record(!fm.contains_zero());
+  if (trace) trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false, true});
+  return fm.contains_zero();
+}
 
-BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
-                        const BeamSearch* parent, BeamTrace* trace, bool prove_full) {
-  BeamSearch out;
+/// The first depth piece of a beam that may hold the surface, and its box.
+struct FirstPiece {
+  double a = 0, b = 0;
+  IBox box;
+};
+
+/// Searches the depths `range` of the beam `rect` (directions `dirs`) front to back for the
+/// first piece that may hold the surface, no wider than the depth tolerance (times the beam's
+/// lateral width at the piece's far end). Nothing when every piece is excluded.
+std::optional<FirstPiece> first_piece(RenderContext& ctx, const PixelRect& rect, const IBox& dirs,
+                                      Interval range, BeamTrace* trace) {
   const RenderSetup& su = ctx.setup;
-  const Vec3& eye = su.frame.eye;
-  out.dirs = su.frame.dir_box(rect);
-  if (trace) trace->searched = range;
-  if (range.is_empty()) return out;
   // Lateral extent of the beam per unit depth (pixels -> world), for the stopping rule.
   const double lateral = std::max(rect.width(), rect.height()) * su.frame.scale;
   const double abs_floor = 1e-12 * std::max(1.0, range.hi());
@@ -161,9 +193,8 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     st.push(range.lo(), range.hi());
   }
   double a = 0, b = 0;
-  bool found = false;
   while (st.pop(&a, &b)) {
-    const IBox box = clip_box(segment_box(eye, out.dirs, Interval(a, b)), ctx.bounds());
+    const IBox box = clip_box(segment_box(su.frame.eye, dirs, Interval(a, b)), ctx.bounds());
     if (box.is_empty()) {
       if (trace)
         trace->pieces.push_back({Interval(a, b), box, Interval::empty(), false, false, false});
@@ -172,39 +203,99 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     const double m = 0.5 * (a + b);
     const double tol = std::max(abs_floor, tol_factor * lateral * b);
     const bool narrow = b - a <= kMeanValueWidth * tol;
-    // Where the natural enclosure of narrow pieces rarely excludes 0, the gradient evaluation of
-    // the mean-value form comes first: its value part is that same natural enclosure.
-    bool partial = false;
-    IGrad g;
-    const bool have_grad = narrow && ctx.mv.gradient_first(MeanValueBudget::kPiece);
-    if (have_grad) g = ctx.eval_grad(box, &partial);
-    const Interval f = have_grad ? g.v : ctx.eval(box, &partial);
-    const bool kept = !f.is_empty() && f.contains_zero();
-    if (narrow) ctx.mv.record_natural(MeanValueBudget::kPiece, !kept);
-    if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial, false});
-    if (!kept) continue;
-    // A piece a few tolerances wide near (but off) the surface often has 0 in its natural
-    // enclosure only through overestimation: the sharper mean-value form excludes it at once,
-    // where bisection would exclude it one tolerance-sized piece at a time.
-    if (!partial && narrow && ctx.mv.allowed()) {
-      bool gpartial = false;
-      if (!have_grad) g = ctx.eval_grad(box, &gpartial);
-      const Interval fm = gpartial ? Interval::whole()
-                                   : piece_mean_value_form(ctx, box, g, out.dirs, Interval(a, b));
-      ctx.mv.record(!fm.contains_zero());
-      if (trace)
-        trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false, true});
-      if (!fm.contains_zero()) continue;
-    }
-    if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) {
-      found = true;
-      out.hit_box = box;
-      break;
-    }
+    if (!piece_may_hit(ctx, box, dirs, a, b, narrow, trace)) continue;
+    if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) return FirstPiece{a, b, box};
     st.push(m, b);
     st.push(a, m);
   }
-  if (!found) {
+  return std::nullopt;
+}
+
+/// The near slice of a full-coverage proof for a beam whose first kept piece starts at `a` and
+/// is `w` wide: at t_near, or up to 2w before it. No ray meets the surface in the excluded pieces
+/// in front of t_near, so a sign proved at t_s <= t_near still brackets the first hit of every ray
+/// in [t_near, t_far]; close to the surface intervals cannot tell the sign. Sets `t_s` and
+/// returns slice_sign() there.
+int near_slice(RenderContext& ctx, const IBox& dirs, Interval range, double a, double w,
+               double* t_s) {
+  int s_near = 0;
+  for (int k = 0; k < 4; ++k) {
+    *t_s = k == 0 ? a : std::max(range.lo(), a - std::ldexp(w, k - 1));
+    s_near = slice_sign(ctx, dirs, *t_s);
+    if (s_near == 1 || s_near == -1 || *t_s <= range.lo()) break;
+  }
+  return s_near;
+}
+
+/// Tightens a far slice `tf` with the sign -s_near by bisection towards `t_fail` (the last depth
+/// found without it), while the gap is wider than `w`: a shorter [t_near, t_far] gives a smaller
+/// hit box (a sharper estimator) and a shorter search for the children.
+double refine_far(RenderContext& ctx, const IBox& dirs, int s_near, double t_fail, double tf,
+                  double w) {
+  for (int r = 0; r < kFarRefine && tf - t_fail > w; ++r) {
+    const double tm = 0.5 * (t_fail + tf);
+    if (slice_sign(ctx, dirs, tm) == -s_near) {
+      tf = tm;
+    } else {
+      t_fail = tm;
+    }
+  }
+  return tf;
+}
+
+/// Makes `out` Full over [t_near, tf] when the box of [t_s, tf] lies inside the bounds and f is
+/// continuous on it (the slices at t_s and tf have the proved signs s_near and -s_near). Returns
+/// why full coverage was or was not certified.
+const char* certify_full(RenderContext& ctx, double t_s, double tf, int s_near, BeamSearch* out) {
+  const Vec3& eye = ctx.setup.frame.eye;
+  const IBox seg = segment_box(eye, out->dirs, Interval(t_s, tf));
+  if (!box_inside(seg, ctx.bounds())) return "corner rays leave the bounds before t_far";
+  bool partial = false;
+  if (ctx.setup.may_partial) ctx.eval(seg, &partial);
+  if (partial) return "f may be undefined or discontinuous between t_near and t_far";
+  out->result = BeamResult::kFull;
+  out->t_far = tf;
+  out->t_s = t_s;
+  out->sign = s_near;
+  out->hit_box = segment_box(eye, out->dirs, Interval(out->t_near, tf));
+  return "sign change proved between the slices at t_near and t_far";
+}
+
+/// Full coverage of the Partial beam `out` whose first kept piece is `w` wide: opposite proved
+/// signs on the slices at t_near and at some t_far >= t_near, with the box of [t_near, t_far]
+/// inside the bounds and f continuous on it. Makes `out` Full when proved; returns why full
+/// coverage was or was not certified.
+const char* prove_full_coverage(RenderContext& ctx, Interval range, double w, BeamSearch* out) {
+  const double a = out->t_near;
+  double t_s = a;
+  const int s_near = near_slice(ctx, out->dirs, range, a, w, &t_s);
+  if (s_near != 1 && s_near != -1) return "no proved sign on the slice at t_near";
+  // Candidates t_near + w 2^k, the last one clamped to the end of the range. The depths whose
+  // slice lies inside the bounds form an interval, so the search stops at the first slice
+  // outside.
+  double t_fail = a;  // the last candidate without the opposite sign
+  for (int k = 0; k < kFarTries; ++k) {
+    const double tf = std::min(a + std::ldexp(w, k), range.hi());
+    const int s_far = slice_sign(ctx, out->dirs, tf);
+    if (s_far == kOutside) return "the slices leave the bounds before a sign change";
+    if (s_far == -s_near)
+      return certify_full(ctx, t_s, refine_far(ctx, out->dirs, s_near, t_fail, tf, w), s_near, out);
+    if (tf >= range.hi()) break;
+    t_fail = tf;
+  }
+  return "no slice with the opposite sign found";
+}
+
+}  // namespace
+
+BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
+                        const BeamSearch* parent, BeamTrace* trace, bool prove_full) {
+  BeamSearch out;
+  out.dirs = ctx.setup.frame.dir_box(rect);
+  if (trace) trace->searched = range;
+  if (range.is_empty()) return out;
+  const std::optional<FirstPiece> first = first_piece(ctx, rect, out.dirs, range, trace);
+  if (!first) {
     out.result = BeamResult::kMiss;
     if (trace) {
       trace->result = out.result;
@@ -212,6 +303,8 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
     }
     return out;
   }
+  const double a = first->a;
+  out.hit_box = first->box;
   out.t_near = a;
   out.t_far = range.hi();
   out.result = BeamResult::kPartial;
@@ -219,86 +312,19 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
   if (parent && parent->result == BeamResult::kFull && parent->t_s <= a && a <= parent->t_far) {
     // Inherited proof: this beam's slices lie inside the parent's, where the signs are proved.
     // t_far stays the parent's: tighten_far() shortens it only where the estimator needs it
-    // (measured: a bisection step here on every child cost more than it saved).
-    const double tf = parent->t_far;
+    // (a bisection step here on every child costs more than it saves).
     out.result = BeamResult::kFull;
     out.t_s = parent->t_s;
     out.sign = parent->sign;
-    out.t_far = tf;
-    out.hit_box = segment_box(eye, out.dirs, Interval(a, tf));
+    out.t_far = parent->t_far;
+    out.hit_box = segment_box(ctx.setup.frame.eye, out.dirs, Interval(a, out.t_far));
     return traced(out, "inside a Full parent: its sign change proof covers this beam", trace);
   }
-
-  // Full coverage: opposite proved signs on the slices at t_near and at some t_far >= t_near,
-  // with the box of [t_near, t_far] inside the bounds and f continuous on it.
-  const char* reason = "";
   if (!prove_full)
     return traced(out,
                   "full coverage not tried: another part of the pixel is already certified covered",
                   trace);
-  // The near slice may be at t_near or a little before it: no ray meets the surface in the
-  // excluded pieces in front of t_near, so a sign proved at t_s <= t_near still brackets the first
-  // hit of every ray in [t_near, t_far]. Close to the surface intervals cannot tell the sign.
-  int s_near = 0;
-  double t_s = a;
-  for (int k = 0; k < 4; ++k) {
-    t_s = k == 0 ? a : std::max(range.lo(), a - std::ldexp(b - a, k - 1));
-    s_near = slice_sign(ctx, out.dirs, t_s);
-    if (s_near == 1 || s_near == -1 || t_s <= range.lo()) break;
-  }
-  if (s_near != 1 && s_near != -1) {
-    reason = "no proved sign on the slice at t_near";
-  } else {
-    reason = "no slice with the opposite sign found";
-    // Candidates t_near + w 2^k (w: the kept piece's width), the last one clamped to the end of
-    // the range. The depths whose slice lies inside the bounds form an interval, so the search
-    // stops at the first slice outside.
-    const double w = b - a;
-    double t_fail = a;  // the last candidate without the opposite sign
-    for (int k = 0; k < kFarTries; ++k) {
-      double tf = std::min(a + std::ldexp(w, k), range.hi());
-      int s_far = slice_sign(ctx, out.dirs, tf);
-      if (s_far == -s_near) {
-        // Tighten t_far by bisection between the last failure and tf: a shorter [t_near, t_far]
-        // gives a smaller hit box (a sharper estimator) and a shorter search for the children.
-        for (int r = 0; r < kFarRefine && tf - t_fail > w; ++r) {
-          const double tm = 0.5 * (t_fail + tf);
-          if (slice_sign(ctx, out.dirs, tm) == -s_near) {
-            tf = tm;
-          } else {
-            t_fail = tm;
-          }
-        }
-      }
-      if (s_far == kOutside) {
-        reason = "the slices leave the bounds before a sign change";
-        break;
-      }
-      if (s_far == -s_near) {
-        const IBox seg = segment_box(eye, out.dirs, Interval(t_s, tf));
-        if (!box_inside(seg, ctx.bounds())) {
-          reason = "corner rays leave the bounds before t_far";
-          break;
-        }
-        bool partial = false;
-        if (su.may_partial) ctx.eval(seg, &partial);
-        if (partial) {
-          reason = "f may be undefined or discontinuous between t_near and t_far";
-          break;
-        }
-        out.result = BeamResult::kFull;
-        out.t_far = tf;
-        out.t_s = t_s;
-        out.sign = s_near;
-        out.hit_box = segment_box(eye, out.dirs, Interval(a, tf));
-        reason = "sign change proved between the slices at t_near and t_far";
-        break;
-      }
-      if (tf >= range.hi()) break;
-      t_fail = tf;
-    }
-  }
-  return traced(out, reason, trace);
+  return traced(out, prove_full_coverage(ctx, range, first->b - a, &out), trace);
 }
 
 BeamSearch inherit_full(const RenderContext& ctx, const PixelRect& rect, const BeamSearch& parent,

@@ -1,4 +1,4 @@
-// EvalRaySet (DESIGN.md, "Beams and the depth search"; the paper's Fig. 2, made sound).
+// EvalRaySet (docs/render.md, "How"; the paper's Fig. 2, made sound).
 //
 // A beam is a rectangle R of pixel coordinates; its segment over depths [t0, t1] is enclosed by
 // the outward-rounded box of its 8 corners, clipped to the scene bounds. The depth range is
@@ -55,7 +55,7 @@ BeamSearch inherit_full(const RenderContext& ctx, const PixelRect& rect, const B
 /// cover the shorter range. Returns true when t_far moved. Needs a RoundingScope.
 bool tighten_far(RenderContext& ctx, BeamSearch* s, double step);
 
-/// The estimator of a Full beam (DESIGN.md, "IAA pixel subdivision", step 3): the interval dot
+/// The estimator of a Full beam (docs/render.md, "How"; the paper's step 3): the interval dot
 /// product of the unit normal grad F / |grad F| over the hit box with the unit beam direction.
 /// Returns the whole line when |grad F| cannot be bounded away from 0 (or f is partial there).
 ///

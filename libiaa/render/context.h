@@ -2,12 +2,12 @@
 // one set of evaluators (they own scratch space, so one per task/thread, never shared).
 #pragma once
 
-#include <algorithm>
 #include <cstdint>
 
 #include "expr/specialize.h"
-#include "scene/scene.h"
+#include "render/mean_value_budget.h"
 #include "scene/camera.h"
+#include "scene/scene.h"
 #include "scene/settings.h"
 
 namespace iaa {
@@ -24,59 +24,6 @@ struct RenderSetup {
   double shadow_eps;  ///< offset of shadow-ray origins along the normal
 
   RenderSetup(const Scene& scene, const RenderSettings& settings);
-};
-
-/// When the mean-value form is tried (beam.cpp). It costs a gradient evaluation and a point
-/// evaluation; on some surfaces it almost never excludes what the natural enclosure keeps (huge,
-/// fast-varying gradients, as on the twist's thin blades), on others most of the time (the
-/// dependency of low-degree polynomials such as chubs). It is tried freely for the first kTrial
-/// times, then only while at least 1 in kRate tries excludes 0.
-///
-/// A unit of work (a screen block, a pixel with its sub-beams) starts with the record of the
-/// block just above it (inherited()): where the block's tries failed, the unit gets kFresh free
-/// tries instead of kTrial (on the twist, where they hardly ever pay, every pixel spent 8
-/// gradient evaluations on them); where they paid, it goes on trying. (2 free tries saved more
-/// on the twist but showed more spurious silhouette pixels on the teardrop and blobby.) The chain
-/// of blocks above a pixel is fixed (render.cpp), so no decision depends on threads or on which
-/// pixels came before, and render_pixel() sees the same budget as render(). Skipping a mean-value
-/// form only gives up an exclusion, never claims one.
-///
-/// Where the natural enclosure of narrow depth pieces (or of slices) keeps 0 at least 7 times
-/// in 8, those are evaluated with the gradient at once (gradient_first()): the value part of that
-/// evaluation is the same natural enclosure, so a plain evaluation is saved. These counts start
-/// afresh in every unit.
-struct MeanValueBudget {
-  static constexpr int kTrial = 8;
-  static constexpr int kRate = 8;
-  static constexpr int kFresh = 4;
-  enum Kind { kPiece = 0, kSlice = 1 };
-  int tries = 0, hits = 0;  ///< mean-value forms tried, and how many excluded 0
-  int seen[2] = {0, 0};     ///< natural enclosures of narrow pieces / slices
-  int natural[2] = {0, 0};  ///< ... and how many of them excluded 0
-  bool allowed() const { return tries < kTrial || hits * kRate >= tries; }
-  bool gradient_first(Kind k) const {
-    return allowed() && seen[k] >= kTrial && natural[k] * kRate <= seen[k];
-  }
-  void record(bool excluded) {
-    ++tries;
-    hits += excluded;
-  }
-  void record_natural(Kind k, bool excluded) {
-    ++seen[k];
-    natural[k] += excluded;
-  }
-  /// The budget a unit of work inside this one starts with: this one's rate of hits over at most
-  /// kTrial - kFresh tries, so that a failed record still leaves kFresh free tries.
-  MeanValueBudget inherited() const {
-    MeanValueBudget b;
-    b.tries = std::min(tries, kTrial - kFresh);
-    if (tries > 0) {
-      // The same rate of hits, rounded so that a record that allows tries still does.
-      const int scaled = hits * b.tries;
-      b.hits = hits * kRate >= tries ? (scaled + tries - 1) / tries : scaled / tries;
-    }
-    return b;
-  }
 };
 
 /// Evaluators and counters of one task.

@@ -3,8 +3,8 @@
 #include <array>
 #include <cmath>
 
-#include "scene/camera.h"
 #include "render/piece_stack.h"
+#include "scene/camera.h"
 
 namespace iaa {
 

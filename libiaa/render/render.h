@@ -4,15 +4,15 @@
 #pragma once
 
 #include "core/exec.h"
-#include "scene/scene.h"
 #include "render/film.h"
-#include "scene/settings.h"
 #include "render/trace.h"
+#include "scene/scene.h"
+#include "scene/settings.h"
 
 namespace iaa {
 
 /// Renders the scene (the window of `settings`, or all of it). Results are identical for any
-/// Exec (threads, tile). Throws SettingError for bad settings or Error for a bad camera.
+/// number of threads in `exec`. Throws SettingError for bad settings or Error for a bad camera.
 /// Returns early with the pixels done so far when exec.progress is cancelled.
 Film render(const Scene& scene, const RenderSettings& settings, const Exec& exec = {});
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "scene/camera.h"
 #include "render/ray_search.h"
+#include "scene/camera.h"
 
 namespace iaa {
 

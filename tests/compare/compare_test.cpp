@@ -16,9 +16,9 @@
 #include "mesh/cgal_mesher.h"
 #include "mesh/mesh_raycast.h"
 #include "mesh/octree_mesher.h"
-#include "scene/camera.h"
 #include "render/context.h"
 #include "render/render.h"
+#include "scene/camera.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/vtk_mesher.h"
 #endif

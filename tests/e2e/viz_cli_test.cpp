@@ -36,7 +36,7 @@ std::string viz() {
   return "env -u DISPLAY " + quoted(kBin + "/iaa-viz");
 }
 
-/// Pixels of the colour families iaa-viz uses (scene_render.cpp), under its lighting.
+/// Pixels of the colour families iaa-viz uses (viz/scene_actors.cpp), under its lighting.
 struct Colours {
   int white = 0;   ///< background
   int teal = 0;    ///< crossing boxes (0.1, 0.55, 0.6)

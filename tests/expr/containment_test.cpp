@@ -1,8 +1,8 @@
-// Containment property test, one typed suite run against every evaluator (docs/design.md, "How the guarantees are tested"):
-// random expressions over every operation, random boxes, endpoint-heavy sample points. For each
-// (expression, box) trial every point value must lie in the interval value over the box, and
-// every point gradient in the interval gradient. Points where f is undefined (non-finite point
-// value) are skipped: they are not points of any surface.
+// Containment property test, one typed suite run against every evaluator (docs/design.md, "How the
+// guarantees are tested"): random expressions over every operation, random boxes, endpoint-heavy
+// sample points. For each (expression, box) trial every point value must lie in the interval value
+// over the box, and every point gradient in the interval gradient. Points where f is undefined
+// (non-finite point value) are skipped: they are not points of any surface.
 #include <gtest/gtest.h>
 
 #include <algorithm>

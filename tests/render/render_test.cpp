@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "core/error.h"
-#include "scene/camera.h"
 #include "render/context.h"
 #include "render/ray_search.h"
 #include "render/render_test_util.h"
+#include "scene/camera.h"
 
 namespace iaa {
 namespace {

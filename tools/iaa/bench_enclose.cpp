@@ -18,12 +18,12 @@
 #include <nlohmann/json.hpp>
 
 #include "app/files.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/bench.h"
 #include "iaa/bench_scenes.h"
-#include "app/scene_loading.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/enclosure_vtk.h"
 #endif

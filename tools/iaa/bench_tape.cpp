@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "app/files.h"
+#include "app/scene_loading.h"
 #include "core/error.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
@@ -21,7 +22,6 @@
 #include "expr/eval_point_grad.h"
 #include "iaa/bench.h"
 #include "iaa/bench_scenes.h"
-#include "app/scene_loading.h"
 
 namespace iaa::cli {
 namespace {

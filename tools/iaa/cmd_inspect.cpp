@@ -25,8 +25,8 @@
 #include "iaa/inspect_text.h"
 #include "iaa/render_flags.h"
 #include "mesh/octree_mesher.h"
-#include "scene/camera.h"
 #include "render/render.h"
+#include "scene/camera.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/inspect_vtk.h"
 #endif

@@ -79,19 +79,12 @@ app::Image8 color_image(const Film& f) {
 }
 
 nlohmann::json report_json(const Scene& scene, const Film& f, int threads) {
-  const RenderSettings& s = f.settings;
   nlohmann::json j;
   j["scene"] = scene.name;
   j["width"] = f.width;
   j["height"] = f.height;
   j["window"] = {f.window.x0, f.window.y0, f.window.x1, f.window.y1};
-  j["settings"] = {{"method", std::string(method_name(s.method))},
-                   {"grid", s.grid_n},
-                   {"max_level", s.max_level},
-                   {"estimator_threshold", s.estimator_threshold},
-                   {"depth_tolerance", s.depth_tolerance},
-                   {"adaptive_threshold", s.adaptive_threshold},
-                   {"shadows", s.shadows}};
+  j["settings"] = render_settings_json(f.settings);
   j["threads"] = threads;
   j["seconds"] = f.seconds;
   const double px = f.stats.pixels ? double(f.stats.pixels) : 1.0;

@@ -5,6 +5,7 @@
 
 #include "app/png.h"
 #include "iaa/inspect_text.h"
+#include "iaa/render_flags.h"
 
 namespace iaa::cli {
 namespace {
@@ -32,16 +33,6 @@ nlohmann::json jvec(const Vec3& v) {
 
 nlohmann::json jrgb8(const Vec3& c) {
   return nlohmann::json::array({app::to_byte(c.x), app::to_byte(c.y), app::to_byte(c.z)});
-}
-
-nlohmann::json settings_json(const RenderSettings& st) {
-  return {{"method", std::string(method_name(st.method))},
-          {"grid", st.grid_n},
-          {"max_level", st.max_level},
-          {"estimator_threshold", st.estimator_threshold},
-          {"depth_tolerance", st.depth_tolerance},
-          {"adaptive_threshold", st.adaptive_threshold},
-          {"shadows", st.shadows}};
 }
 
 /// The colour exactly as render() stores it in its Film (floats), and as the PNG's bytes.
@@ -124,7 +115,7 @@ nlohmann::json inspection_json(const Scene& scene, const std::string& path,
   j["file"] = path;
   j["image"] = {{"width", scene.width}, {"height", scene.height}};
   j["pixel"] = {tr.x, tr.y};
-  j["settings"] = settings_json(st);
+  j["settings"] = render_settings_json(st);
   j["result"] = result_json(r);
   j["beams"] = nlohmann::json::array();
   for (std::size_t i = 0; i < tr.beams.size(); ++i) {

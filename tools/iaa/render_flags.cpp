@@ -72,4 +72,14 @@ void apply_render_flags(const RenderFlags& f, RenderSettings* st) {
   st->validate();
 }
 
+nlohmann::json render_settings_json(const RenderSettings& st) {
+  return {{"method", std::string(method_name(st.method))},
+          {"grid", st.grid_n},
+          {"max_level", st.max_level},
+          {"estimator_threshold", st.estimator_threshold},
+          {"depth_tolerance", st.depth_tolerance},
+          {"adaptive_threshold", st.adaptive_threshold},
+          {"shadows", st.shadows}};
+}
+
 }  // namespace iaa::cli

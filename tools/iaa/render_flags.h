@@ -5,6 +5,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <vector>
@@ -44,5 +45,8 @@ std::vector<std::string> with_image_size(const RenderFlags& flags, std::vector<s
 /// Overrides the settings (a scene's) with the flags that were given, then validates them.
 /// Throws iaa::Error naming the flag (SettingError for a value out of its range).
 void apply_render_flags(const RenderFlags& flags, RenderSettings* settings);
+
+/// The settings as the JSON reports of `iaa render` and `iaa inspect` write them.
+nlohmann::json render_settings_json(const RenderSettings& settings);
 
 }  // namespace iaa::cli
