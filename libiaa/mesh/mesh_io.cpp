@@ -6,6 +6,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <cctype>
+#include <cstdint>
 #include <mutex>
 #include <sstream>
 
@@ -33,8 +34,19 @@ const char* ext_of(MeshFormat f) {
       return ".obj";
     case MeshFormat::kOff:
       return ".off";
+    case MeshFormat::kStl:
+      return ".stl";
   }
   return ".ply";
+}
+
+// A binary STL is an 80-byte header, a 32-bit little-endian triangle count n and 50 bytes per
+// triangle. Its header may begin with "solid" like an ASCII file, so the size decides.
+bool is_binary_stl(const std::string& bytes) {
+  if (bytes.size() < 84) return false;
+  std::uint64_t n = 0;
+  for (int i = 3; i >= 0; --i) n = (n << 8) | static_cast<unsigned char>(bytes[80 + i]);
+  return bytes.size() == 84 + 50 * n;
 }
 
 // OpenMesh's readers and writers log to its own streams (stdout); the library never prints, so
@@ -59,7 +71,8 @@ MeshFormat mesh_format_from_extension(std::string_view ext) {
   if (e == "ply") return MeshFormat::kPly;
   if (e == "obj") return MeshFormat::kObj;
   if (e == "off") return MeshFormat::kOff;
-  throw Error("unsupported mesh format '" + std::string(ext) + "': use .ply, .obj or .off");
+  if (e == "stl") return MeshFormat::kStl;
+  throw Error("unsupported mesh format '" + std::string(ext) + "': use .ply, .obj, .off or .stl");
 }
 
 struct Mesh::Impl {
@@ -159,8 +172,10 @@ std::string encode_mesh(const Mesh& held, MeshFormat format, bool binary) {
   const TriMesh& mesh = held.impl_->mesh;
   NearestScope nearest;  // the writer's float x y z: the nearest floats
   OpenMesh::IO::Options opt;
+  if (binary && (format == MeshFormat::kPly || format == MeshFormat::kStl)) {
+    opt += OpenMesh::IO::Options::Binary;
+  }
   if (format == MeshFormat::kPly) {
-    if (binary) opt += OpenMesh::IO::Options::Binary;
     opt += OpenMesh::IO::Options::Custom;  // the x_double properties, when the mesh has them
   }
   std::ostringstream os(binary ? std::ios::out | std::ios::binary : std::ios::out);
@@ -186,6 +201,7 @@ Mesh decode_mesh(const std::string& bytes, MeshFormat format, const std::string&
   std::istringstream is(bytes, std::ios::in | std::ios::binary);
   OpenMesh::IO::Options opt;
   if (format == MeshFormat::kPly) opt += OpenMesh::IO::Options::Custom;  // reads x_double
+  if (format == MeshFormat::kStl && is_binary_stl(bytes)) opt += OpenMesh::IO::Options::Binary;
   bool ok = false;
   {
     std::lock_guard<std::mutex> lock(io_mutex());

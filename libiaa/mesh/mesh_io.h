@@ -1,8 +1,8 @@
 // Meshes as iaa holds them: an OpenMesh TriMesh with double-precision points (class Mesh), built
 // from a mesher's triangles or read from a file, analysed (analyze_mesh) and written with
-// OpenMesh's readers and writers (PLY, OBJ, OFF). The library works on bytes in memory; reading
-// and writing files is the tool's job. This header is free of OpenMesh types; everything in it
-// exists when IAA_HAVE_OPENMESH is defined.
+// OpenMesh's readers and writers (PLY, OBJ, OFF, STL). The library works on bytes in memory;
+// reading and writing files is the tool's job. This header is free of OpenMesh types; everything in
+// it exists when IAA_HAVE_OPENMESH is defined.
 //
 // Precision of the files (measured with OpenMesh 9.0, tests/mesh/mesh_io_test.cpp): its PLY, OBJ
 // and OFF writers store x, y, z as float whatever the mesh's traits (the exporter's pointd() is
@@ -11,6 +11,9 @@
 // carries both: float x y z, which every reader understands, and the exact double coordinates
 // as `property double x_double`, `y_double`, `z_double`, which decode_mesh prefers. OBJ and OFF
 // files hold float coordinates only (written with 17 digits, so the float reads back exactly).
+// STL, what 3D printers take, holds float coordinates and one normal per triangle and no shared
+// vertices: binary STL stores the floats themselves, ASCII STL prints them; the reader merges
+// vertices with equal coordinates back into one.
 #pragma once
 
 #include <cstddef>
@@ -25,9 +28,9 @@
 
 namespace iaa {
 
-enum class MeshFormat { kPly, kObj, kOff };
+enum class MeshFormat { kPly, kObj, kOff, kStl };
 
-/// The format for a file extension ("ply", "obj", "off", any case, without the dot); throws
+/// The format for a file extension ("ply", "obj", "off", "stl", any case, without the dot); throws
 /// iaa::Error naming the supported formats otherwise.
 MeshFormat mesh_format_from_extension(std::string_view ext);
 
@@ -70,11 +73,12 @@ class Mesh {
 MeshReport analyze_mesh(const Mesh& mesh, const Tape* tape = nullptr,
                         const Enclosure* enclosure = nullptr);
 
-/// Encodes a mesh (ASCII with 17 significant digits, or binary PLY); see the header's note on
-/// what each format holds. Throws iaa::Error if OpenMesh fails.
+/// Encodes a mesh (ASCII with 17 significant digits, or binary PLY or STL); see the header's note
+/// on what each format holds. Throws iaa::Error if OpenMesh fails.
 std::string encode_mesh(const Mesh& mesh, MeshFormat format, bool binary = false);
 
-/// Decodes a mesh (polygons are split into triangles). `what` names the source in errors.
+/// Decodes a mesh (polygons are split into triangles; an STL file may be binary or ASCII). `what`
+/// names the source in errors.
 /// Throws iaa::Error when OpenMesh cannot read it.
 Mesh decode_mesh(const std::string& bytes, MeshFormat format, const std::string& what);
 

@@ -39,6 +39,16 @@ for m in cgal vtk; do
 done
 "$bin/iaa" mesh "${sphere[@]}" --resolution 16 -o "$tmp/s.off" -q > /dev/null
 head -1 "$tmp/s.off" | grep -q OFF || fail "OFF output"
+# STL, ASCII and binary, read back by iaa compare.
+"$bin/iaa" mesh "${sphere[@]}" --resolution 16 -o "$tmp/s.stl" -q > /dev/null
+head -1 "$tmp/s.stl" | grep -q '^solid' || fail "ASCII STL output"
+"$bin/iaa" mesh "${sphere[@]}" --resolution 16 --binary -o "$tmp/sb.stl" -q > /dev/null
+n=$(od -An -tu4 -j80 -N4 "$tmp/sb.stl" | tr -d ' ')
+[ "$(stat -c %s "$tmp/sb.stl")" -eq $((84 + 50 * n)) ] || fail "binary STL size"
+for f in s.stl sb.stl; do
+  "$bin/iaa" compare "$2/data/scenes/chubs.toml" --mesh "$tmp/$f" -o "$tmp/$f.png" -q \
+    --set image.width=32 --set image.height=32 > /dev/null || fail "compare reads $f"
+done
 
 # Bad input: clear message, non-zero exit, no file.
 expect_error() {  # expect_error PATTERN OUTPUT-FILE -- command...
@@ -49,7 +59,7 @@ expect_error() {  # expect_error PATTERN OUTPUT-FILE -- command...
   [ -z "$out" ] || [ ! -e "$out" ] || fail "partial output $out left behind"
 }
 expect_error "unknown mesher" "$tmp/e1.ply" "$bin/iaa" mesh "${sphere[@]}" --method dc -o "$tmp/e1.ply"
-expect_error "unsupported mesh format" "$tmp/e2.stl" "$bin/iaa" mesh "${sphere[@]}" -o "$tmp/e2.stl"
+expect_error "unsupported mesh format" "$tmp/e2.step" "$bin/iaa" mesh "${sphere[@]}" -o "$tmp/e2.step"
 expect_error "no surface" "$tmp/e3.ply" "$bin/iaa" mesh --bounds -1:1,-1:1,-1:1 \
   --expr '(x^2 + y^2 + z^2 - 0.5)^2' -o "$tmp/e3.ply" --resolution 16
 expect_error "give either a SCENE or --expr" "$tmp/e3.ply" "$bin/iaa" mesh "$2/data/scenes/teardrop.toml" \

@@ -134,7 +134,42 @@ TEST(MeshIo, FloatFileReportAllowsTheFloatRounding) {
 TEST(MeshIo, ExtensionsAreChecked) {
   EXPECT_EQ(mesh_format_from_extension("PLY"), MeshFormat::kPly);
   EXPECT_EQ(mesh_format_from_extension("obj"), MeshFormat::kObj);
-  EXPECT_THROW(mesh_format_from_extension("stl"), Error);
+  EXPECT_EQ(mesh_format_from_extension("Stl"), MeshFormat::kStl);
+  EXPECT_THROW(mesh_format_from_extension("step"), Error);
+}
+
+// STL (binary and ASCII) keeps no shared vertices; the reader merges equal points back, so the
+// mesh comes back closed, with the float coordinates and the volume of the float mesh.
+TEST(MeshIo, StlRoundTripsBinaryAndAscii) {
+  const TriangleSoup t = tetrahedron();
+  TriangleSoup f = t;
+  round_to_file_precision(f);
+  const Mesh held = Mesh::from_triangles(t);
+  for (bool binary : {false, true}) {
+    const std::string bytes = encode_mesh(held, MeshFormat::kStl, binary);
+    EXPECT_EQ(bytes.rfind("solid", 0) == 0, !binary) << "binary " << binary;
+    const Mesh back = decode_mesh(bytes, MeshFormat::kStl, "test.stl");
+    EXPECT_EQ(back.precision(), CoordinatePrecision::kFloat);
+    const TriangleSoup b = back.triangles();
+    EXPECT_EQ(b.vertices.size(), t.vertices.size());
+    EXPECT_EQ(b.triangles.size(), t.triangles.size());
+    const MeshReport r = analyze_mesh(back);
+    EXPECT_EQ(r.boundary_edges, 0u);
+    EXPECT_EQ(r.inconsistent_edges, 0u);
+    EXPECT_EQ(r.euler, 2);
+    EXPECT_DOUBLE_EQ(r.volume, analyze_mesh(f).volume);
+  }
+}
+
+// A binary STL whose 80-byte header happens to begin with "solid" is still read as binary: the
+// file's size, 84 + 50 bytes per triangle, decides.
+TEST(MeshIo, BinaryStlWithSolidHeaderIsBinary) {
+  std::string bytes = encode_mesh(Mesh::from_triangles(tetrahedron()), MeshFormat::kStl, true);
+  ASSERT_GE(bytes.size(), 84u);
+  bytes.replace(0, 5, "solid");
+  const MeshReport r = analyze_mesh(decode_mesh(bytes, MeshFormat::kStl, "solid.stl"));
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.boundary_edges, 0u);
 }
 
 TEST(MeshIo, BadMeshesGiveClearErrors) {

@@ -143,7 +143,7 @@ void setup(CLI::App& app) {
   auto o = std::make_shared<CompareOptions>();
   app.add_option("scene", o->scene, "scene file (TOML): surface, camera and image size")
       ->required();
-  app.add_option("--mesh", o->mesh, "mesh file (.ply, .obj, .off)")->required();
+  app.add_option("--mesh", o->mesh, "mesh file (.ply, .obj, .off, .stl)")->required();
   app.add_option("-o,--output", o->output, "diff picture (.png)")->required();
   app.add_option("--report", o->report, "write the counts as JSON");
   app.add_option("--set", o->sets, "override a scene key, e.g. image.width=200 (repeatable)");

@@ -1,5 +1,5 @@
 // `iaa mesh`: meshes a surface with the octree mesher (ours, from the guaranteed enclosure), CGAL
-// Mesh_3 or VTK flying edges, writes the mesh through OpenMesh (PLY/OBJ/OFF), and reports its
+// Mesh_3 or VTK flying edges, writes the mesh through OpenMesh (PLY/OBJ/OFF/STL), and reports its
 // topology and fit (--report).
 #include <cstdio>
 #include <memory>
@@ -130,8 +130,8 @@ void setup(CLI::App& app) {
                  "override a scene key, e.g. 'surface.min=[-1,-1,-1]' (repeatable)");
   app.add_option("--method", o->method, "octree (ours, from the guaranteed enclosure), cgal or vtk")
       ->capture_default_str();
-  app.add_option("-o,--output", o->output, "mesh file: .ply, .obj or .off")->required();
-  app.add_flag("--binary", o->binary, "write binary PLY");
+  app.add_option("-o,--output", o->output, "mesh file: .ply, .obj, .off or .stl")->required();
+  app.add_flag("--binary", o->binary, "write binary PLY or STL (ASCII otherwise)");
   app.add_option("--report", o->report, "write a JSON report (topology, fit, enclosure check)");
   app.add_option("--resolution", o->p.resolution,
                  "N: octree leaves of a 2^ceil(log2 N) grid, VTK grid N^3, CGAL facet size edge/N")
@@ -159,6 +159,7 @@ void setup(CLI::App& app) {
       "Examples:\n"
       "  iaa mesh data/scenes/teardrop.toml -o teardrop.ply\n"
       "  iaa mesh data/scenes/teardrop.toml --method cgal --resolution 128 -o teardrop-cgal.ply\n"
+      "  iaa mesh data/scenes/chubs.toml --binary -o chubs.stl            # for a 3D printer\n"
       "  iaa mesh --expr 'x^2 + y^2 + z^2 - 1' --bounds -1.2:1.2,-1.2:1.2,-1.2:1.2 \\\n"
       "           --method vtk --grid 64 -o sphere.obj --report sphere.json\n"
       "Triangles are oriented with normals towards increasing f. With --method octree, leaves\n"
@@ -166,8 +167,9 @@ void setup(CLI::App& app) {
   app.callback([o] { run(*o); });
 }
 
-CommandRegistrar reg{
-    {"mesh", "mesh a surface (octree from the enclosure, cgal, vtk) to PLY/OBJ/OFF", 40, setup}};
+CommandRegistrar reg{{"mesh",
+                      "mesh a surface (octree from the enclosure, cgal, vtk) to PLY/OBJ/OFF/STL",
+                      40, setup}};
 
 }  // namespace
 }  // namespace iaa::cli
