@@ -12,8 +12,9 @@ endif()
 include(${LAYERS})
 
 # The first component of a quoted include names its part of the tree: a library module, `app`,
-# `viz`, or the tools' include roots `iaa` (tools/iaa) and `common`.
-set(tool_roots iaa common)
+# `viz`, or the tools: `iaa/...` (tools/ is an include root of the iaa command) or `tools/...`
+# (the source tree is an include root of viz/).
+set(tool_roots iaa tools)
 
 file(GLOB_RECURSE files RELATIVE ${ROOT} ${ROOT}/libiaa/*.h ${ROOT}/libiaa/*.cpp ${ROOT}/viz/*.h
   ${ROOT}/viz/*.cpp ${ROOT}/tools/*.h ${ROOT}/tools/*.cpp)

@@ -1,7 +1,7 @@
 // One pixel's inspection (render/trace.h) as a VTK multiblock, written as a `.vtm` through VTK's
 // XML multiblock writer: what `iaa inspect --vtk OUT.vtm` writes and `iaa-viz` shows.
 //
-// Blocks (names are what iaa-viz keys its roles, colours and legend on, viz/scene_render.h):
+// Blocks (names are what iaa-viz keys its roles, colours and legend on, viz/scene_layer.h):
 // - `beams`: one pyramid per sub-beam of the pixel (level >= 0), apex at the eye, base at the far
 //   end of the scene bounds. Cell arrays `result` (0 miss, 1 full, 2 partial), `level`, `beam`
 //   (index into the trace / the JSON of `iaa inspect`), `decision` (BeamDecision), `t_near`
@@ -25,7 +25,7 @@
 //   end; cell arrays `hit`, `certified`.
 // - `enclosure` (optional): enclosure boxes near the pixel (viz/enclosure_vtk.h layout, `class`).
 // - `mesh` (optional): octree-mesh triangles near the pixel.
-// Every leaf and the multiblock carry the scene's camera (`iaa_camera`, scene_render.h) and the
+// Every leaf and the multiblock carry the scene's camera (`iaa_camera`, viz/scene_camera.h) and the
 // field data `format` ("iaa-inspect 1"), `pixel` (x, y), `scene`, `method`.
 #pragma once
 

@@ -1,7 +1,7 @@
 // Seeing a mesh through the scene's camera: which pixels of the view show any of its triangles.
 // Built on a CGAL AABB tree over the triangles; this header is CGAL-free and the functions exist
-// when IAA_HAVE_CGAL is defined. The camera is the renderer's (render/camera.h), so pixel (x, y)
-// is the area [x, x+1] x [y, y+1], row 0 at the top, exactly as in a render.
+// when IAA_HAVE_CGAL is defined. The camera is the scene's (scene/camera.h), as the renderer uses
+// it, so pixel (x, y) is the area [x, x+1] x [y, y+1], row 0 at the top, exactly as in a render.
 #pragma once
 
 #include <memory>

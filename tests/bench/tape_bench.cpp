@@ -4,9 +4,7 @@
 //   build/bin/iaa_gbench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,21 +12,14 @@
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
-#include "io/scene_toml.h"
+#include "test_scenes.h"
 
 namespace iaa {
 namespace {
 
 /// The chubs scene of the source tree (data/scenes/chubs.toml), read once.
 const Scene& chubs() {
-  static const Scene scene = [] {
-    const std::string path = std::string(IAA_SOURCE_DIR) + "/data/scenes/chubs.toml";
-    std::ifstream in(path);
-    if (!in) throw Error("cannot read '" + path + "'");
-    std::stringstream text;
-    text << in.rdbuf();
-    return parse_scene(text.str(), path);
-  }();
+  static const Scene scene = test::bundled_scene("chubs");
   return scene;
 }
 

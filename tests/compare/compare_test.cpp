@@ -7,8 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "core/error.h"
@@ -19,19 +17,13 @@
 #include "render/context.h"
 #include "render/render.h"
 #include "scene/camera.h"
+#include "test_scenes.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/vtk_mesher.h"
 #endif
 
 namespace iaa {
 namespace {
-
-[[maybe_unused]] std::string read_text(const char* path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 TEST(Compare, VerdictsPerPixel) {
   Film film(3, 2);
@@ -234,10 +226,8 @@ bool proved_empty_by_subdivision(const Scene& scene, int x, int y, int max_cells
 // The teardrop with its bounds in general position (no grid line along the neck's axis): at the
 // same resolution, the octree mesh loses fewer pixels than the point-sampled peers.
 TEST(Compare, TeardropOctreeLosesFewerPixelsThanPeers) {
-  std::string text = read_text(IAA_SOURCE_DIR "/data/scenes/teardrop.toml");
-  const Scene scene = parse_scene(
-      text, "teardrop.toml",
-      {{"surface.min", "[-1.05, -1.03, -1.04]"}, {"image.width", "200"}, {"image.height", "200"}});
+  const Scene scene = test::bundled_scene(
+      "teardrop", {"surface.min=[-1.05, -1.03, -1.04]", "image.width=200", "image.height=200"});
   RenderSettings rs = scene.settings;
   rs.method = RenderMethod::kIaa;
   const Film film = render(scene, rs);

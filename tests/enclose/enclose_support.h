@@ -6,8 +6,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -18,7 +16,7 @@
 #include "enclose/octree.h"
 #include "expr/eval_interval.h"
 #include "expr/tape.h"
-#include "io/scene_toml.h"
+#include "test_scenes.h"
 
 namespace iaa::test {
 
@@ -32,13 +30,8 @@ struct TestSurface {
 /// The scene data/scenes/NAME.toml of the source tree as a test surface. Its expression takes no
 /// parameters, since the tests compile `expr` alone.
 inline TestSurface load_test_surface(const std::string& name) {
-  const std::string path = std::string(IAA_SOURCE_DIR) + "/data/scenes/" + name + ".toml";
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read '" + path + "'");
-  std::stringstream text;
-  text << in.rdbuf();
-  const Scene scene = parse_scene(text.str(), path);
-  if (!scene.params.empty()) throw Error("'" + path + "': a test surface takes no parameters");
+  const Scene scene = bundled_scene(name);
+  if (!scene.params.empty()) throw Error(name + ": a test surface takes no parameters");
   return {name, scene.expression, scene.bounds};
 }
 

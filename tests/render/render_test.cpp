@@ -6,9 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <queue>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -88,14 +86,9 @@ TEST(Sphere, HitDepthsOfRaysMatchTheAnalyticDepth) {
 }
 
 /// A bundled scene at a small size with more overrides.
-Scene bundled_with(const std::string& name, int size, std::vector<SceneOverride> ov) {
-  const std::string path = std::string(IAA_SOURCE_DIR) + "/data/scenes/" + name + ".toml";
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  ov.push_back({"image.width", std::to_string(size)});
-  ov.push_back({"image.height", std::to_string(size)});
-  return parse_scene(ss.str(), path, ov);
+Scene bundled_with(const std::string& name, int size, std::vector<std::string> overrides) {
+  for (std::string& o : test::image_size(size)) overrides.push_back(std::move(o));
+  return test::bundled_scene(name, overrides);
 }
 
 /// Every per-pixel output and the totals of two renders are the same.
@@ -126,15 +119,15 @@ TEST(Render, IdenticalForAnyThreadCount) {
 // 40 pixels: four root blocks (32 + 8 on each axis), so two threads share the work.
 TEST(Render, IdenticalForAnyThreadCountWithShadows) {
   const std::vector<std::pair<std::string, Scene>> scenes = {
-      {"twist", bundled_with("twist", 40, {{"render.shadows", "true"}})},
+      {"twist", bundled_with("twist", 40, {"render.shadows=true"})},
       {"chubs, 5 lights",
        bundled_with("chubs", 40,
-                    {{"render.shadows", "true"},
-                     {"light",
-                      "[{position = [3, 4, 5]}, {position = [-4, 2, 1], color = [0.5, 0.4, 0.3]},"
-                      " {position = [0, -5, 2], color = [0.2, 0.3, 0.6]},"
-                      " {position = [1, 1, -6], color = [0.3, 0.3, 0.3]},"
-                      " {position = [5, 0, 0], color = [0.4, 0.2, 0.2]}]"}})}};
+                    {"render.shadows=true",
+                     "light="
+                     "[{position = [3, 4, 5]}, {position = [-4, 2, 1], color = [0.5, 0.4, 0.3]},"
+                     " {position = [0, -5, 2], color = [0.2, 0.3, 0.6]},"
+                     " {position = [1, 1, -6], color = [0.3, 0.3, 0.3]},"
+                     " {position = [5, 0, 0], color = [0.4, 0.2, 0.2]}]"})}};
   ASSERT_EQ(scenes[1].second.lights.size(), 5u);
   for (const auto& [name, s] : scenes) {
     ASSERT_TRUE(s.settings.shadows) << name;

@@ -1,12 +1,12 @@
 // Shared helpers of the render tests: scenes from text or from data/scenes at small sizes.
 #pragma once
 
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "io/scene_toml.h"
+#include "test_scenes.h"
 
 namespace iaa::test {
 
@@ -26,13 +26,7 @@ inline Scene parse(const std::string& text) {
 
 /// A bundled scene at a small size.
 inline Scene bundled(const std::string& name, int size) {
-  const std::string path = std::string(IAA_SOURCE_DIR) + "/data/scenes/" + name + ".toml";
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_scene(
-      ss.str(), path,
-      {{"image.width", std::to_string(size)}, {"image.height", std::to_string(size)}});
+  return bundled_scene(name, image_size(size));
 }
 
 }  // namespace iaa::test

@@ -4,9 +4,9 @@
 
 #include <string>
 
-#include "io/scene_toml.h"
 #include "render/render.h"
 #include "render/trace.h"
+#include "scene/scene.h"
 
 namespace iaa::cli {
 

@@ -14,7 +14,6 @@
 #include "app/scene_loading.h"
 #include "core/error.h"
 #include "enclose/octree.h"
-#include "io/scene_toml.h"
 #include "mesh/octree_mesher.h"
 #include "viz/app/view_options.h"
 #include "viz/enclosure_vtk.h"

@@ -12,7 +12,6 @@
 #include "app/png.h"
 #include "app/scene_loading.h"
 #include "core/error.h"
-#include "io/scene_toml.h"
 #include "viz/app/xserver.h"
 
 namespace iaa::viz {
