@@ -10,6 +10,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -254,10 +255,31 @@ struct VertexTable {
   std::vector<Key> keys;
   std::vector<std::int8_t> signs;
   std::vector<std::uint8_t> uncertain;
+  /// Open addressing over `keys`: slot -> index + 1 (0: empty), size a power of two.
+  std::vector<std::uint32_t> slots;
+  std::uint64_t mask = 0;
+  int shift = 60;
 
+  // Fibonacci hashing: the high bits of the product mix every bit of the key.
+  std::uint64_t hash(Key k) const { return (k * 0x9E3779B97F4A7C15ull) >> shift; }
+  void build_hash() {
+    std::uint64_t n = 16;
+    shift = 60;
+    while (n < 2 * keys.size()) n *= 2, --shift;
+    mask = n - 1;
+    slots.assign(n, 0);
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      std::uint64_t h = hash(keys[i]) & mask;
+      while (slots[h] != 0) h = (h + 1) & mask;
+      slots[h] = std::uint32_t(i + 1);
+    }
+  }
   std::size_t find(Key k) const {
-    const auto it = std::lower_bound(keys.begin(), keys.end(), k);
-    return it != keys.end() && *it == k ? std::size_t(it - keys.begin()) : keys.size();
+    for (std::uint64_t h = hash(k) & mask;; h = (h + 1) & mask) {
+      const std::uint32_t v = slots[h];
+      if (v == 0) return keys.size();
+      if (keys[v - 1] == k) return v - 1;
+    }
   }
   bool contains(Key k) const { return find(k) != keys.size(); }
 };
@@ -274,34 +296,34 @@ std::int8_t point_sign(Evaluators& e, const Vec3& p) {
 
 VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
                            ThreadEvaluators& evals, const Exec& exec) {
-  std::vector<std::pair<Key, std::int8_t>> all;
-  all.reserve(leaves.size() * 8);
-  for (const Leaf& l : leaves) {
-    const std::uint32_t s = grid.size(l.depth);
-    // Empty leaves give their proved sign to their corners; others ask for an evaluation (2).
-    const std::int8_t hint = l.kind == Kind::kEmpty ? l.sign : 2;
-    for (int k = 0; k < 8; ++k) {
-      all.emplace_back(make_key({l.at[0] + (k & 1) * s, l.at[1] + ((k >> 1) & 1) * s,
-                                 l.at[2] + ((k >> 2) & 1) * s}),
-                       hint);
-    }
-  }
-  std::sort(all.begin(), all.end());
+  // Each corner as (key << 2 | code): 0 proved f <= 0, 1 proved f > 0 (from an empty leaf),
+  // 2 to evaluate (a corner of a leaf that may hold surface), 3 nothing known.
+  std::vector<std::uint64_t> all(leaves.size() * 8);
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096), [&](auto r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        const Leaf& l = leaves[i];
+        const std::uint32_t s = grid.size(l.depth);
+        const std::uint64_t code =
+            l.kind != Kind::kEmpty ? 2 : (l.sign < 0 ? 0 : (l.sign > 0 ? 1 : 3));
+        for (std::uint32_t k = 0; k < 8; ++k) {
+          const Key key = make_key(
+              {l.at[0] + (k & 1) * s, l.at[1] + ((k >> 1) & 1) * s, l.at[2] + ((k >> 2) & 1) * s});
+          all[8 * i + k] = (key << 2) | code;
+        }
+      }
+    });
+    tbb::parallel_sort(all.begin(), all.end());
+  });
   VertexTable t;
   for (std::size_t i = 0; i < all.size();) {
-    std::size_t j = i;
-    std::int8_t known = 0;
-    bool needed = false;
-    for (; j < all.size() && all[j].first == all[i].first; ++j) {
-      if (all[j].second == 2)
-        needed = true;
-      else if (all[j].second != 0)
-        known = all[j].second;
-    }
-    t.keys.push_back(all[i].first);
+    const Key key = all[i] >> 2;
+    // The smallest code of the key decides: a proved sign before "evaluate" before nothing.
+    const std::uint64_t code = all[i] & 3;
+    while (i < all.size() && (all[i] >> 2) == key) ++i;
+    t.keys.push_back(key);
     // 3: to evaluate; 0: not needed (only empty leaves of undefined sign touch it).
-    t.signs.push_back(known != 0 ? known : (needed ? 3 : 0));
-    i = j;
+    t.signs.push_back(code == 0 ? -1 : (code == 1 ? 1 : (code == 2 ? 3 : 0)));
   }
   t.uncertain.assign(t.keys.size(), 0);
   exec.run([&] {
@@ -316,6 +338,7 @@ VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
       }
     });
   });
+  t.build_hash();
   return t;
 }
 
@@ -799,6 +822,22 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
 
 }  // namespace
 
+std::array<int, 3> certified_root_cells(const CertifiedMeshSettings& settings) {
+  const Grid g = make_grid(settings);
+  return {1 << g.root_bits[0], 1 << g.root_bits[1], 1 << g.root_bits[2]};
+}
+
+int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge) {
+  const std::array<int, 3> roots = certified_root_cells(settings);
+  double longest = 0;
+  for (int a = 0; a < 3; ++a) {
+    longest = std::fmax(longest, settings.bounds.size()[a] / roots[std::size_t(a)]);
+  }
+  int d = 0;
+  while (d < settings.max_depth && std::ldexp(longest, -d) > edge) ++d;
+  return d;
+}
+
 CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,
                              const Exec& exec) {
   settings.validate();
@@ -832,7 +871,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   m.stats.seconds_refine = seconds_since(t0);
   assemble(grid, leaves, r, m);
   m.stats.leaves = leaves.size();
-  m.stats.roots = {1 << grid.root_bits[0], 1 << grid.root_bits[1], 1 << grid.root_bits[2]};
+  m.stats.roots = certified_root_cells(settings);
   for (const auto& e : evals) m.stats.interval_evaluations += e->evaluations;
   m.stats.seconds_extract = seconds_since(t0) - m.stats.seconds_refine;
   phase.advance(1);

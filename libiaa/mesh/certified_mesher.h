@@ -97,6 +97,12 @@ struct CertifiedMesh {
   std::vector<UncertifiedCell> uncertified;
 };
 
+/// Root cells per axis for these settings: powers of two that make the root cells near cubes.
+std::array<int, 3> certified_root_cells(const CertifiedMeshSettings& settings);
+
+/// The smallest min_depth whose cells have no edge longer than `edge` (at most max_depth).
+int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge);
+
 /// Meshes f = 0 in settings.bounds. The result is identical for any thread count. Throws
 /// SettingError on invalid settings or when settings.max_boxes leaves would be exceeded.
 CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,
