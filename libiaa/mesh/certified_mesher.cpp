@@ -168,9 +168,30 @@ bool edge_ok(Evaluators& e, const Box3& edge, int axis) {
 /// The local certificate of a cell: the gradient cone (0 outside the dot product of two
 /// independent gradient enclosures); in strict mode also faces with a nowhere-vanishing
 /// tangential gradient and edges on which f is monotone (or zero-free).
-bool locally_certified(Evaluators& e, const Box3& b, const IGrad& c, bool strict) {
+/// True when f is strictly monotone along some fixed direction over the cell whose gradient
+/// enclosure is `g`: Plantinga and Vegter's cone test (0 outside the dot product of two
+/// independent copies of G, so that every gradient has a positive dot product with any other),
+/// or 0 outside d.G for one of the 13 directions of the axes, face and body diagonals. Either
+/// way every line along the direction meets the surface in the cell at most once.
+bool monotone(const IGrad& c) {
   const Interval dot = c.g[0] * c.g[0] + c.g[1] * c.g[1] + c.g[2] * c.g[2];
-  if (!(dot.lo() > 0.0)) return false;
+  if (dot.lo() > 0.0) return true;
+  static constexpr int kDirs[13][3] = {{1, 0, 0},  {0, 1, 0},  {0, 0, 1},  {1, 1, 0},  {1, -1, 0},
+                                       {1, 0, 1},  {1, 0, -1}, {0, 1, 1},  {0, 1, -1}, {1, 1, 1},
+                                       {1, 1, -1}, {1, -1, 1}, {1, -1, -1}};
+  for (const auto& d : kDirs) {
+    Interval s(0.0);
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (d[a] == 1) s = s + c.g[a];
+      if (d[a] == -1) s = s - c.g[a];
+    }
+    if (!s.contains_zero()) return true;
+  }
+  return false;
+}
+
+bool locally_certified(Evaluators& e, const Box3& b, const IGrad& c, bool strict) {
+  if (!monotone(c)) return false;
   if (!strict) return true;
   for (int a = 0; a < 3; ++a) {
     const std::size_t u = std::size_t((a + 1) % 3), v = std::size_t((a + 2) % 3);
@@ -255,8 +276,15 @@ struct VertexTable {
   std::vector<Key> keys;
   std::vector<std::int8_t> signs;
   std::vector<std::uint8_t> uncertain;
-  /// Open addressing over `keys`: slot -> index + 1 (0: empty), size a power of two.
-  std::vector<std::uint32_t> slots;
+  /// Open addressing: each slot holds a key (kNone: empty) with its sign and uncertainty, so
+  /// that a lookup touches one cache line. Size a power of two.
+  struct Slot {
+    Key key;
+    std::int8_t sign;
+    std::uint8_t uncertain;
+  };
+  static constexpr Key kNone = ~Key{0};
+  std::vector<Slot> slots;
   std::uint64_t mask = 0;
   int shift = 60;
 
@@ -267,21 +295,22 @@ struct VertexTable {
     shift = 60;
     while (n < 2 * keys.size()) n *= 2, --shift;
     mask = n - 1;
-    slots.assign(n, 0);
+    slots.assign(n, Slot{kNone, 0, 0});
     for (std::size_t i = 0; i < keys.size(); ++i) {
       std::uint64_t h = hash(keys[i]) & mask;
-      while (slots[h] != 0) h = (h + 1) & mask;
-      slots[h] = std::uint32_t(i + 1);
+      while (slots[h].key != kNone) h = (h + 1) & mask;
+      slots[h] = {keys[i], signs[i], uncertain[i]};
     }
   }
-  std::size_t find(Key k) const {
+  /// The slot of k, or null.
+  const Slot* find(Key k) const {
     for (std::uint64_t h = hash(k) & mask;; h = (h + 1) & mask) {
-      const std::uint32_t v = slots[h];
-      if (v == 0) return keys.size();
-      if (keys[v - 1] == k) return v - 1;
+      const Slot& s = slots[h];
+      if (s.key == k) return &s;
+      if (s.key == kNone) return nullptr;
     }
   }
-  bool contains(Key k) const { return find(k) != keys.size(); }
+  bool contains(Key k) const { return find(k) != nullptr; }
 };
 
 /// The interval sign of f at a point: +1, -1 (f <= 0), or 0 when undecided.
@@ -428,13 +457,13 @@ class Extractor {
   }
 
   std::int8_t sign(Key k) {
-    const std::size_t i = table_.find(k);
-    if (i == table_.keys.size()) {  // cannot happen: every cycle point is a leaf corner
+    const VertexTable::Slot* s = table_.find(k);
+    if (!s) {  // cannot happen: every cycle point is a leaf corner
       out_.uncertain = true;
       return -1;
     }
-    if (table_.uncertain[i]) out_.uncertain = true;
-    return table_.signs[i];
+    if (s->uncertain) out_.uncertain = true;
+    return s->sign;
   }
 
   // The crossings of one piece, paired into segments (up crossing to down crossing).

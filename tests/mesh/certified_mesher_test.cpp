@@ -76,6 +76,17 @@ TEST(CertifiedMesher, SphereIsOneClosedComponentWithEulerTwo) {
   EXPECT_EQ(c.topology.components[0].genus, 0);
 }
 
+TEST(CertifiedMesher, StrictModeCertifiesASphereToo) {
+  const Tape tape = Tape::parse("x^2 + y^2 + z^2 - 0.64");
+  CertifiedMeshSettings s = settings_for(kCube);
+  s.strict = true;
+  const CertifiedMesh m = mesh_certified(tape, s);
+  const MeshReport r = analyze_mesh(m.soup, &tape);
+  EXPECT_EQ(m.stats.uncertified_leaves, 0u);
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.boundary_edges, 0u);
+}
+
 TEST(CertifiedMesher, SphereTouchingGridPlanesAtCornersStaysClosed) {
   // The grid planes x = 0, y = 0, z = 0 and the bounds' faces meet the sphere at grid corners.
   const Checked c = run("x^2 + y^2 + z^2 - 1", kCube);
@@ -152,7 +163,12 @@ TEST(CertifiedMesher, TeardropNeckIsReportedUncertifiedButMeshed) {
   const CertifiedMesh m = mesh_certified(*scene.tape, s);
   EXPECT_GT(m.stats.uncertified_leaves, 0u);
   EXPECT_EQ(m.uncertified.size(), m.stats.uncertified_leaves);
-  EXPECT_GT(m.soup.triangles.size(), 1000u);
+  EXPECT_GT(m.soup.triangles.size(), 500u);
+  // The uncertified cells sit at the singular point, the origin.
+  for (const UncertifiedCell& u : m.uncertified) {
+    EXPECT_LT(std::fabs(u.box.center().x), 0.1);
+    EXPECT_LT(std::fabs(u.box.center().y), 0.1);
+  }
   // The bounds cut the surface at x = 1 (a circle of radius 1): the mesh is open only there.
   const MeshReport r = analyze_mesh(m.soup, scene.tape.get());
   EXPECT_EQ(r.nonmanifold_edges, 0u);
