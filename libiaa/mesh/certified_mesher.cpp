@@ -400,6 +400,7 @@ class Extractor {
     out_ = {};
     segments_.clear();
     crossings_.clear();
+    if (quiet()) return std::move(out_);
     for (int a = 0; a < 3; ++a) {
       for (int side = 0; side < 2; ++side) face(a, side);
     }
@@ -408,6 +409,32 @@ class Extractor {
   }
 
  private:
+  // True when the leaf's boundary holds no crossing, seen cheaply: its 8 corners have one sign
+  // and no finer neighbour puts a corner on its faces or edges (every such corner would make a
+  // face centre or an edge midpoint a leaf corner). Most leaves are quiet.
+  bool quiet() {
+    const Index3& p = leaf_.at;
+    const std::uint32_t s = size_, h = s / 2;
+    std::int8_t first = 0;
+    for (std::uint32_t k = 0; k < 8; ++k) {
+      const std::int8_t g = sign(
+          make_key({p[0] + (k & 1) * s, p[1] + ((k >> 1) & 1) * s, p[2] + ((k >> 2) & 1) * s}));
+      if (k == 0) first = g;
+      if (g != first) return false;
+    }
+    if (s == 1) return true;
+    // Face centres (one coordinate at 0 or s, the others at h) and edge midpoints (one at h).
+    for (std::uint32_t k = 0; k < 27; ++k) {
+      const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
+      const int mids = (c[0] == 1) + (c[1] == 1) + (c[2] == 1);
+      if (mids != 1 && mids != 2) continue;
+      Index3 q;
+      for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
+      if (table_.contains(make_key(q))) return false;
+    }
+    return true;
+  }
+
   Key key_at(int a, std::uint32_t w, std::uint32_t u, std::uint32_t v) const {
     Index3 p;
     p[std::size_t(a)] = w;

@@ -33,6 +33,8 @@ const char* ext_of(MeshFormat f) {
       return ".obj";
     case MeshFormat::kOff:
       return ".off";
+    case MeshFormat::kStl:
+      return ".stl";
   }
   return ".ply";
 }
@@ -59,7 +61,8 @@ MeshFormat mesh_format_from_extension(std::string_view ext) {
   if (e == "ply") return MeshFormat::kPly;
   if (e == "obj") return MeshFormat::kObj;
   if (e == "off") return MeshFormat::kOff;
-  throw Error("unsupported mesh format '" + std::string(ext) + "': use .ply, .obj or .off");
+  if (e == "stl") return MeshFormat::kStl;
+  throw Error("unsupported mesh format '" + std::string(ext) + "': use .ply, .obj, .off or .stl");
 }
 
 struct Mesh::Impl {
@@ -156,13 +159,25 @@ MeshReport analyze_mesh(const Mesh& mesh, const Tape* tape, const Enclosure* enc
 }
 
 std::string encode_mesh(const Mesh& held, MeshFormat format, bool binary) {
-  const TriMesh& mesh = held.impl_->mesh;
+  const TriMesh* source = &held.impl_->mesh;
   NearestScope nearest;  // the writer's float x y z: the nearest floats
   OpenMesh::IO::Options opt;
   if (format == MeshFormat::kPly) {
     if (binary) opt += OpenMesh::IO::Options::Binary;
     opt += OpenMesh::IO::Options::Custom;  // the x_double properties, when the mesh has them
   }
+  // STL stores a normal per facet, which OpenMesh's writer takes from the face normals (zero
+  // without them): a copy of the mesh gets them.
+  TriMesh with_normals;
+  if (format == MeshFormat::kStl) {
+    if (binary) opt += OpenMesh::IO::Options::Binary;
+    opt += OpenMesh::IO::Options::FaceNormal;
+    with_normals = *source;
+    with_normals.request_face_normals();
+    with_normals.update_face_normals();
+    source = &with_normals;
+  }
+  const TriMesh& mesh = *source;
   std::ostringstream os(binary ? std::ios::out | std::ios::binary : std::ios::out);
   bool ok = false;
   {
@@ -186,6 +201,13 @@ Mesh decode_mesh(const std::string& bytes, MeshFormat format, const std::string&
   std::istringstream is(bytes, std::ios::in | std::ios::binary);
   OpenMesh::IO::Options opt;
   if (format == MeshFormat::kPly) opt += OpenMesh::IO::Options::Custom;  // reads x_double
+  // OpenMesh's STL reader takes a stream as ASCII unless told; a binary STL does not start with
+  // "solid" followed by a "facet" line.
+  if (format == MeshFormat::kStl &&
+      !(bytes.rfind("solid", 0) == 0 && bytes.find("facet", 0) != std::string::npos &&
+        bytes.find("facet", 0) < 512)) {
+    opt += OpenMesh::IO::Options::Binary;
+  }
   bool ok = false;
   {
     std::lock_guard<std::mutex> lock(io_mutex());

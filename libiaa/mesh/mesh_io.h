@@ -11,6 +11,8 @@
 // carries both: float x y z, which every reader understands, and the exact double coordinates
 // as `property double x_double`, `y_double`, `z_double`, which decode_mesh prefers. OBJ and OFF
 // files hold float coordinates only (written with 17 digits, so the float reads back exactly).
+// STL files (ASCII, or binary with --binary) hold float coordinates and a normal per triangle,
+// and no shared vertices: OpenMesh's reader welds equal points back together.
 #pragma once
 
 #include <cstddef>
@@ -25,9 +27,9 @@
 
 namespace iaa {
 
-enum class MeshFormat { kPly, kObj, kOff };
+enum class MeshFormat { kPly, kObj, kOff, kStl };
 
-/// The format for a file extension ("ply", "obj", "off", any case, without the dot); throws
+/// The format for a file extension ("ply", "obj", "off", "stl", any case, without the dot); throws
 /// iaa::Error naming the supported formats otherwise.
 MeshFormat mesh_format_from_extension(std::string_view ext);
 

@@ -57,6 +57,13 @@ for m in cgal vtk; do
 done
 "$bin/iaa" mesh "${sphere[@]}" --resolution 16 -o "$tmp/s.off" -q > /dev/null
 head -1 "$tmp/s.off" | grep -q OFF || fail "OFF output"
+# STL, ASCII and binary (80-byte header, triangle count, 50 bytes per triangle).
+"$bin/iaa" mesh "${sphere[@]}" --resolution 16 -o "$tmp/s.stl" --report "$tmp/stl.json" -q > /dev/null
+head -1 "$tmp/s.stl" | grep -q '^solid' || fail "ASCII STL output"
+grep -q '"self_intersections": 0' "$tmp/stl.json" || fail "self-intersections of the certified sphere"
+"$bin/iaa" mesh "${sphere[@]}" --resolution 16 -o "$tmp/b.stl" --binary -q > /dev/null
+triangles=$(grep -c 'facet normal' "$tmp/s.stl")
+[ "$(stat -c %s "$tmp/b.stl")" -eq $((84 + 50 * triangles)) ] || fail "binary STL size"
 
 # Bad input: clear message, non-zero exit, no file.
 expect_error() {  # expect_error PATTERN OUTPUT-FILE -- command...
@@ -67,7 +74,7 @@ expect_error() {  # expect_error PATTERN OUTPUT-FILE -- command...
   [ -z "$out" ] || [ ! -e "$out" ] || fail "partial output $out left behind"
 }
 expect_error "unknown mesher" "$tmp/e1.ply" "$bin/iaa" mesh "${sphere[@]}" --method dc -o "$tmp/e1.ply"
-expect_error "unsupported mesh format" "$tmp/e2.stl" "$bin/iaa" mesh "${sphere[@]}" -o "$tmp/e2.stl"
+expect_error "unsupported mesh format" "$tmp/e2.stp" "$bin/iaa" mesh "${sphere[@]}" -o "$tmp/e2.stp"
 expect_error "no surface" "$tmp/e3.ply" "$bin/iaa" mesh --bounds -1:1,-1:1,-1:1 \
   --expr '(x^2 + y^2 + z^2 - 0.5)^2' -o "$tmp/e3.ply" --resolution 16 --method octree
 # (0.49: no grid point lies on this sphere, whose f only touches 0)

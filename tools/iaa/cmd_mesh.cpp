@@ -1,7 +1,7 @@
 // `iaa mesh`: meshes a surface with the certified mesher (ours, isotopic to the surface inside
 // the cells it certifies; the default), the octree mesher (ours, from the guaranteed enclosure),
-// CGAL Mesh_3 or VTK flying edges, writes the mesh through OpenMesh (PLY/OBJ/OFF), and reports its
-// topology and fit (--report) and the cells it could not certify (--uncertified).
+// CGAL Mesh_3 or VTK flying edges, writes the mesh through OpenMesh (PLY/OBJ/OFF/STL), and reports
+// its topology and fit (--report) and the cells it could not certify (--uncertified).
 #include <cstdio>
 #include <memory>
 
@@ -11,6 +11,9 @@
 #include "iaa/command.h"
 #include "iaa/mesh_common.h"
 #include "mesh/mesh_io.h"
+#ifdef IAA_HAVE_CGAL
+#include "mesh/self_intersections.h"
+#endif
 #ifdef IAA_HAVE_VIZ
 #include "viz/box_vtk.h"
 #endif
@@ -169,6 +172,11 @@ void run(const MeshOptions& o) {
     j["settings"] = run.details;
     j["mesh_file"] = o.output;
     j["vertices_duplicated_on_write"] = duplicated;
+#ifdef IAA_HAVE_CGAL
+    j["self_intersections"] = count_self_intersections(mesh.triangles());
+#else
+    j["self_intersections"] = nullptr;  // counted with CGAL, left out of this build
+#endif
     if (certified) add_certificate(j, run, mesh);
     j["mesh_file_coordinates"] = format == MeshFormat::kPly
                                      ? "float x y z, and exact double x_double y_double z_double"
@@ -191,11 +199,12 @@ void setup(CLI::App& app) {
                  "certified (ours: isotopic inside certified cells), octree (ours, from the "
                  "guaranteed enclosure), cgal or vtk")
       ->capture_default_str();
-  app.add_option("-o,--output", o->output, "mesh file: .ply, .obj or .off")->required();
-  app.add_flag("--binary", o->binary, "write binary PLY");
+  app.add_option("-o,--output", o->output, "mesh file: .ply, .obj, .off or .stl")->required();
+  app.add_flag("--binary", o->binary, "write binary PLY or STL");
   app.add_option("--report", o->report, "write a JSON report (topology, fit, enclosure check)");
   app.add_option("--resolution", o->p.resolution,
-                 "N: octree leaves of a 2^ceil(log2 N) grid, VTK grid N^3, CGAL facet size edge/N")
+                 "N: certified cells of at most 2 edge/N, octree leaves of a 2^ceil(log2 N) grid, "
+                 "VTK grid N^3, CGAL facet size edge/N")
       ->capture_default_str();
   app.add_option("--depth", o->p.depth, "octree: leaf depth (overrides --resolution)");
   app.add_option("--min-depth", o->p.min_depth,
@@ -243,7 +252,7 @@ void setup(CLI::App& app) {
 }
 
 CommandRegistrar reg{
-    {"mesh", "mesh a surface (certified, octree, cgal, vtk) to PLY/OBJ/OFF", 40, setup}};
+    {"mesh", "mesh a surface (certified, octree, cgal, vtk) to PLY/OBJ/OFF/STL", 40, setup}};
 
 }  // namespace
 }  // namespace iaa::cli

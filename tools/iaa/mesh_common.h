@@ -120,9 +120,9 @@ inline Method parse_mesh_method(const std::string& text) {
   throw Error("--method: unknown mesher '" + text + "'; use certified, octree, cgal or vtk");
 }
 
-/// Resolution settings shared by the four methods. `resolution` N means: certified cells that hold
-/// surface no longer than (longest bounds edge) / N, octree leaves of a 2^ceil(log2 N) grid, VTK
-/// on an N^3 grid, CGAL facets of size (longest bounds edge) / N.
+/// Resolution settings shared by the four methods. `resolution` N means: certified cells that may
+/// hold surface no longer than 2 (longest bounds edge) / N, octree leaves of a 2^ceil(log2 N) grid,
+/// VTK on an N^3 grid, CGAL facets of size (longest bounds edge) / N.
 struct MeshParams {
   int resolution = 256;
   int min_depth = -1;  ///< certified: splits below the root cells at least; -1: from resolution
@@ -194,8 +194,10 @@ inline CertifiedMeshSettings certified_settings(const Surface& s, const MeshPara
   cs.validate();
   const Vec3 size = s.bounds.size();
   const double longest = std::fmax(size.x, std::fmax(size.y, size.z));
+  // A cell's fan has about twice the triangles of a marching-cubes voxel: cells of twice the
+  // voxel's edge give meshes of comparable size.
   cs.min_depth =
-      p.min_depth >= 0 ? p.min_depth : certified_depth_for_edge(cs, longest / p.resolution);
+      p.min_depth >= 0 ? p.min_depth : certified_depth_for_edge(cs, 2 * longest / p.resolution);
   cs.validate();
   return cs;
 }
