@@ -134,7 +134,32 @@ TEST(MeshIo, FloatFileReportAllowsTheFloatRounding) {
 TEST(MeshIo, ExtensionsAreChecked) {
   EXPECT_EQ(mesh_format_from_extension("PLY"), MeshFormat::kPly);
   EXPECT_EQ(mesh_format_from_extension("obj"), MeshFormat::kObj);
-  EXPECT_THROW(mesh_format_from_extension("stl"), Error);
+  EXPECT_EQ(mesh_format_from_extension("STL"), MeshFormat::kStl);
+  EXPECT_THROW(mesh_format_from_extension("stp"), Error);
+}
+
+// STL holds float corners per facet, ASCII or binary; OpenMesh's reader welds them back into a
+// closed mesh of the same topology and float-rounded volume.
+TEST(MeshIo, StlRoundTripsAtFloatPrecisionAsciiAndBinary) {
+  const TriangleSoup t = tetrahedron();
+  TriangleSoup f = t;
+  round_to_file_precision(f);
+  const Mesh held = Mesh::from_triangles(t);
+  for (bool binary : {false, true}) {
+    const std::string bytes = encode_mesh(held, MeshFormat::kStl, binary);
+    EXPECT_EQ(bytes.rfind("solid", 0) == 0, !binary);
+    if (binary) {
+      EXPECT_EQ(bytes.size(), 84u + 50u * t.triangles.size());
+    }
+    const Mesh back = decode_mesh(bytes, MeshFormat::kStl, "test.stl");
+    EXPECT_EQ(back.precision(), CoordinatePrecision::kFloat);
+    const MeshReport r = analyze_mesh(back);
+    EXPECT_EQ(r.triangles, 4u);
+    EXPECT_EQ(r.vertices, 4u);
+    EXPECT_EQ(r.boundary_edges, 0u);
+    EXPECT_EQ(r.inconsistent_edges, 0u);
+    EXPECT_NEAR(r.volume, analyze_mesh(f).volume, 1e-12);
+  }
 }
 
 TEST(MeshIo, BadMeshesGiveClearErrors) {
