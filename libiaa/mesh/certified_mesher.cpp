@@ -19,6 +19,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <unordered_map>
 
 #include "core/error.h"
 #include "enclose/octree.h"
@@ -578,9 +579,12 @@ class Extractor {
     };
     if (!(std::isfinite(fa) && std::isfinite(fb)) || (fa > 0) == (fb > 0)) return at(0.5);
     int side = 0;
+    double last = -1;
     for (int i = 0; i < settings_.edge_steps; ++i) {
       double t = (ta * fb - tb * fa) / (fb - fa);
       if (!(t > ta && t < tb)) t = 0.5 * (ta + tb);
+      if (std::fabs(t - last) < 1e-12) break;  // converged: further steps move it by less
+      last = t;
       const double ft = e_.p.eval(at(t));
       if (!std::isfinite(ft) || ft == 0) return at(t);
       if ((ft > 0) == (fa > 0)) {
@@ -600,7 +604,12 @@ class Extractor {
   void loops() {
     if (segments_.empty()) return;
     std::vector<std::pair<Key, Vec3>> pos;
-    for (const Crossing& c : crossings_) pos.emplace_back(c.id, place(c));
+    for (const Crossing& c : crossings_) {
+      // Up to four leaves share an edge piece: each placement is kept for the leaves after it.
+      auto it = placed_.find(c.id);
+      if (it == placed_.end()) it = placed_.emplace(c.id, place(c)).first;
+      pos.emplace_back(c.id, it->second);
+    }
     out_.crossings = pos;
     auto local = [&](Key id) {
       for (std::size_t i = 0; i < pos.size(); ++i) {
@@ -727,6 +736,7 @@ class Extractor {
   std::vector<Key> cycle_;
   std::vector<Crossing> crossings_;
   std::vector<std::pair<Key, Key>> segments_;
+  std::unordered_map<Key, Vec3> placed_;  ///< crossings placed by this extractor (one range)
 };
 
 Grid make_grid(const CertifiedMeshSettings& s) {
