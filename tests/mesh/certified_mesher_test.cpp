@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -140,6 +141,59 @@ TEST(CertifiedMesher, ThinFlatDiscIsASphere) {
   expect_certified_closed(c);
   EXPECT_EQ(c.report.components, 1u);
   EXPECT_EQ(c.report.euler, 2);
+}
+
+// Random unions (min) of disjoint spheres and tori, each torus's axis along x, y or z: the union
+// has one component per shape and Euler characteristic 2 per sphere, 0 per torus.
+TEST(CertifiedMesher, RandomUnionsOfSpheresAndToriHaveTheirTopology) {
+  std::mt19937 rng(15);
+  std::uniform_real_distribution<double> u(0, 1);
+  struct Shape {
+    Vec3 c;
+    double extent;  // radius of its bounding sphere
+    std::string f;
+  };
+  for (int trial = 0; trial < 24; ++trial) {
+    std::vector<Shape> shapes;
+    int spheres = 0;
+    const int n = 2 + trial % 4;
+    while (int(shapes.size()) < n) {
+      const Vec3 c{-0.7 + 1.4 * u(rng), -0.7 + 1.4 * u(rng), -0.7 + 1.4 * u(rng)};
+      const bool torus = u(rng) < 0.5;
+      const double R = 0.12 + 0.15 * u(rng), r = torus ? R * (0.15 + 0.5 * u(rng)) : 0;
+      const double extent = R + r;
+      bool clear = std::fabs(c.x) + extent < 0.98 && std::fabs(c.y) + extent < 0.98 &&
+                   std::fabs(c.z) + extent < 0.98;
+      for (const Shape& o : shapes) {
+        const Vec3 d = c - o.c;
+        clear = clear && std::sqrt(dot(d, d)) > extent + o.extent + 0.02;
+      }
+      if (!clear) continue;
+      char buf[256];
+      const std::string X = "(x-(" + std::to_string(c.x) + "))",
+                        Y = "(y-(" + std::to_string(c.y) + "))",
+                        Z = "(z-(" + std::to_string(c.z) + "))";
+      if (!torus) {
+        std::snprintf(buf, sizeof buf, "%s^2+%s^2+%s^2-%.17g", X.c_str(), Y.c_str(), Z.c_str(),
+                      R * R);
+        ++spheres;
+      } else {
+        // Axis along X, Y or Z: (|p|^2 + R^2 - r^2)^2 - 4 R^2 (the two other coordinates)^2.
+        const int axis = int(3 * u(rng)) % 3;
+        const std::string a = axis == 0 ? Y : X, b = axis == 2 ? Y : Z;
+        std::snprintf(buf, sizeof buf, "(%s^2+%s^2+%s^2+%.17g)^2-%.17g*(%s^2+%s^2)", X.c_str(),
+                      Y.c_str(), Z.c_str(), R * R - r * r, 4 * R * R, a.c_str(), b.c_str());
+      }
+      shapes.push_back({c, extent, buf});
+    }
+    std::string f = shapes[0].f;
+    for (std::size_t i = 1; i < shapes.size(); ++i) f = "min(" + f + ", " + shapes[i].f + ")";
+    SCOPED_TRACE(f);
+    const Checked c = run(f, kCube, 3, 0, 12);
+    expect_certified_closed(c);
+    EXPECT_EQ(c.report.components, shapes.size());
+    EXPECT_EQ(c.report.euler, 2 * spheres);
+  }
 }
 
 TEST(CertifiedMesher, SameMeshForAnyThreadCount) {
