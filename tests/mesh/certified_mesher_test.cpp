@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "io/scene.h"
 #include "mesh/mesh_report.h"
+#include "mesh/self_intersections.h"
 #include "mesh/topology_report.h"
 
 namespace iaa {
@@ -49,7 +50,7 @@ Checked run(const std::string& expr, const Box3& b, int min_depth = 3, int threa
   return c;
 }
 
-// Closed, manifold, consistently oriented, and certified everywhere.
+// Closed, manifold, consistently oriented, without self-intersections, and certified everywhere.
 void expect_certified_closed(const Checked& c) {
   EXPECT_GT(c.report.triangles, 0u);
   EXPECT_EQ(c.report.boundary_edges, 0u);
@@ -61,6 +62,9 @@ void expect_certified_closed(const Checked& c) {
   EXPECT_TRUE(c.mesh.uncertified.empty());
   EXPECT_EQ(c.mesh.stats.open_chains, 0u);
   EXPECT_GT(c.mesh.stats.distance_bound, 0.0);
+#ifdef IAA_HAVE_CGAL
+  EXPECT_EQ(count_self_intersections(c.mesh.soup), 0u);
+#endif
 }
 
 const Box3 kCube{{-1, -1, -1}, {1, 1, 1}};
