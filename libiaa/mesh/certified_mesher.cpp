@@ -312,6 +312,8 @@ struct VertexTable {
     }
   }
   bool contains(Key k) const { return find(k) != nullptr; }
+  /// Asks the memory for k's slot ahead of find(k).
+  void prefetch(Key k) const { __builtin_prefetch(&slots[hash(k) & mask]); }
 };
 
 /// The interval sign of f at a point: +1, -1 (f <= 0), or 0 when undecided.
@@ -416,6 +418,13 @@ class Extractor {
   bool quiet() {
     const Index3& p = leaf_.at;
     const std::uint32_t s = size_, h = s / 2;
+    // The lookups below miss the cache, independently: start them all at once.
+    for (std::uint32_t k = 0; k < 27; ++k) {
+      const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
+      Index3 q;
+      for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
+      table_.prefetch(make_key(q));
+    }
     std::int8_t first = 0;
     for (std::uint32_t k = 0; k < 8; ++k) {
       const std::int8_t g = sign(
@@ -774,25 +783,21 @@ struct Round {
   std::vector<CellOut> outs;  ///< per leaf (empty for empty leaves)
 };
 
-Round extract_all(const Grid& grid, const std::vector<Leaf>& leaves, const CertifiedMeshSettings& s,
-                  ThreadEvaluators& evals, const Exec& exec) {
-  Round r;
-  r.table = build_vertices(grid, leaves, evals, exec);
-  r.outs.resize(leaves.size());
+/// Extraction of every non-empty leaf (CellOut per leaf, empty for empty leaves).
+std::vector<CellOut> extract_all(const Grid& grid, const std::vector<Leaf>& leaves,
+                                 const VertexTable& table, const CertifiedMeshSettings& s,
+                                 ThreadEvaluators& evals, const Exec& exec) {
+  std::vector<CellOut> outs(leaves.size());
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](auto range) {
       RoundingScope scope;
-      Extractor x(grid, r.table, s, *evals.local());
+      Extractor x(grid, table, s, *evals.local());
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
-        if (leaves[i].kind != Kind::kEmpty) r.outs[i] = x.run(leaves[i]);
+        if (leaves[i].kind != Kind::kEmpty) outs[i] = x.run(leaves[i]);
       }
     });
   });
-  return r;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return outs;
 }
 
 /// The leaves with the failing certified ones replaced by their refinement.
@@ -907,7 +912,6 @@ int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge)
 CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,
                              const Exec& exec) {
   settings.validate();
-  const auto t0 = std::chrono::steady_clock::now();
   const Grid grid = make_grid(settings);
   ThreadEvaluators evals([&] { return std::make_unique<Evaluators>(tape); });
   std::atomic<std::uint64_t> count{0};
@@ -922,24 +926,36 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
     }
   }
   ProgressPhase phase(exec.progress, "certified mesh", 1);
-  std::vector<Leaf> leaves = refine_all(refiner, roots, evals, exec);
   CertifiedMesh m;
+  CertifiedMeshStats& st = m.stats;
+  auto clock = std::chrono::steady_clock::now();
+  // Adds the time since the last call to `phase_seconds`.
+  auto lap = [&](double& phase_seconds) {
+    const auto now = std::chrono::steady_clock::now();
+    phase_seconds += std::chrono::duration<double>(now - clock).count();
+    clock = now;
+  };
+  std::vector<Leaf> leaves = refine_all(refiner, roots, evals, exec);
+  lap(st.seconds_refine);
   Round r;
   for (;;) {
     if (phase.cancelled()) throw Error("certified mesh: cancelled");
-    r = extract_all(grid, leaves, settings, evals, exec);
-    ++m.stats.rounds;
+    r.table = build_vertices(grid, leaves, evals, exec);
+    lap(st.seconds_table);
+    r.outs = extract_all(grid, leaves, r.table, settings, evals, exec);
+    lap(st.seconds_extract);
+    ++st.rounds;
     bool any = false;
     std::vector<Leaf> next = split_failed(grid, refiner, leaves, r.outs, evals, exec, &any);
+    lap(st.seconds_refine);
     if (!any) break;
     leaves = std::move(next);
   }
-  m.stats.seconds_refine = seconds_since(t0);
   assemble(grid, leaves, r, m);
-  m.stats.leaves = leaves.size();
-  m.stats.roots = certified_root_cells(settings);
-  for (const auto& e : evals) m.stats.interval_evaluations += e->evaluations;
-  m.stats.seconds_extract = seconds_since(t0) - m.stats.seconds_refine;
+  st.leaves = leaves.size();
+  st.roots = certified_root_cells(settings);
+  for (const auto& e : evals) st.interval_evaluations += e->evaluations;
+  lap(st.seconds_assemble);
   phase.advance(1);
   return m;
 }

@@ -87,7 +87,9 @@ struct CertifiedMeshStats {
   double distance_bound = 0;
   /// The same for uncertified leaves that hold mesh (0 when none).
   double uncertified_distance_bound = 0;
-  double seconds_refine = 0, seconds_extract = 0;
+  /// Wall time of the phases: refinement (phase 1, and the refinement of split leaves), the table
+  /// of leaf corners and their signs, extraction (pieces, loops, fans), joining the mesh.
+  double seconds_refine = 0, seconds_table = 0, seconds_extract = 0, seconds_assemble = 0;
 };
 
 /// The mesh, its statistics, and the cells it could not certify.
