@@ -350,12 +350,13 @@ VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
   VertexTable t;
   for (std::size_t i = 0; i < all.size();) {
     const Key key = all[i] >> 2;
-    // The smallest code of the key decides: a proved sign before "evaluate" before nothing.
+    // The smallest code of the key decides: a proved sign before "evaluate".
     const std::uint64_t code = all[i] & 3;
     while (i < all.size() && (all[i] >> 2) == key) ++i;
     t.keys.push_back(key);
-    // 3: to evaluate; 0: not needed (only empty leaves of undefined sign touch it).
-    t.signs.push_back(code == 0 ? -1 : (code == 1 ? 1 : (code == 2 ? 3 : 0)));
+    // 3: to evaluate, also a corner that only empty leaves where f may be undefined touch: a
+    // finer neighbour's corner on a leaf's face may be one, and its sign is then needed.
+    t.signs.push_back(code == 0 ? -1 : (code == 1 ? 1 : 3));
   }
   t.uncertain.assign(t.keys.size(), 0);
   exec.run([&] {
