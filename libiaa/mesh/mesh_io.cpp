@@ -169,7 +169,7 @@ MeshReport analyze_mesh(const Mesh& mesh, const Tape* tape, const Enclosure* enc
 }
 
 std::string encode_mesh(const Mesh& held, MeshFormat format, bool binary) {
-  const TriMesh& mesh = held.impl_->mesh;
+  const TriMesh* source = &held.impl_->mesh;
   NearestScope nearest;  // the writer's float x y z: the nearest floats
   OpenMesh::IO::Options opt;
   if (binary && (format == MeshFormat::kPly || format == MeshFormat::kStl)) {
@@ -178,6 +178,17 @@ std::string encode_mesh(const Mesh& held, MeshFormat format, bool binary) {
   if (format == MeshFormat::kPly) {
     opt += OpenMesh::IO::Options::Custom;  // the x_double properties, when the mesh has them
   }
+  // STL stores a normal per facet, which OpenMesh's writer takes from the face normals (zero
+  // without them): a copy of the mesh gets them.
+  TriMesh with_normals;
+  if (format == MeshFormat::kStl) {
+    opt += OpenMesh::IO::Options::FaceNormal;
+    with_normals = *source;
+    with_normals.request_face_normals();
+    with_normals.update_face_normals();
+    source = &with_normals;
+  }
+  const TriMesh& mesh = *source;
   std::ostringstream os(binary ? std::ios::out | std::ios::binary : std::ios::out);
   bool ok = false;
   {
@@ -201,6 +212,7 @@ Mesh decode_mesh(const std::string& bytes, MeshFormat format, const std::string&
   std::istringstream is(bytes, std::ios::in | std::ios::binary);
   OpenMesh::IO::Options opt;
   if (format == MeshFormat::kPly) opt += OpenMesh::IO::Options::Custom;  // reads x_double
+  // OpenMesh's STL reader takes a stream as ASCII unless told which it is.
   if (format == MeshFormat::kStl && is_binary_stl(bytes)) opt += OpenMesh::IO::Options::Binary;
   bool ok = false;
   {

@@ -1,6 +1,7 @@
-// `iaa mesh`: meshes a surface with the octree mesher (ours, from the guaranteed enclosure), CGAL
-// Mesh_3 or VTK flying edges, writes the mesh through OpenMesh (PLY/OBJ/OFF/STL), and reports its
-// topology and fit (--report).
+// `iaa mesh`: meshes a surface with the certified mesher (ours, isotopic to the surface inside
+// the cells it certifies; the default), the octree mesher (ours, from the guaranteed enclosure),
+// CGAL Mesh_3 or VTK flying edges, writes the mesh through OpenMesh (PLY/OBJ/OFF/STL), and reports
+// its topology and fit (--report) and the cells it could not certify (--uncertified).
 #include <cstdio>
 #include <memory>
 
@@ -10,6 +11,12 @@
 #include "iaa/command.h"
 #include "iaa/mesh_common.h"
 #include "mesh/mesh_io.h"
+#ifdef IAA_HAVE_CGAL
+#include "mesh/self_intersections.h"
+#endif
+#ifdef IAA_HAVE_VIZ
+#include "viz/box_vtk.h"
+#endif
 
 namespace iaa::cli {
 namespace {
@@ -20,14 +27,60 @@ struct MeshOptions {
   std::string bounds;
   std::vector<std::string> params;
   std::vector<std::string> sets;
-  std::string method = "octree";
+  std::string method = "certified";
   std::string output;
   bool binary = false;
   std::string report;
+  std::string uncertified;
   meshing::MeshParams p;
   int threads = 0;
   bool quiet = false;
 };
+
+void check_uncertified_option(const MeshOptions& o, meshing::Method method) {
+  if (o.uncertified.empty()) return;
+  if (method != meshing::Method::kCertified) {
+    throw Error("--uncertified: only --method certified reports uncertified cells");
+  }
+  if (app::extension_of(o.uncertified) != "vtu") {
+    throw Error("--uncertified: the boxes are written as a .vtu file, got '" + o.uncertified + "'");
+  }
+#ifndef IAA_HAVE_VIZ
+  throw Error("--uncertified: this iaa was built without VTK (IAA_WITH_VTK=OFF)");
+#endif
+}
+
+void write_uncertified(const std::string& path, const meshing::MeshRun& run,
+                       const meshing::Surface& surface) {
+#ifdef IAA_HAVE_VIZ
+  std::vector<viz::LabelledBox> boxes;
+  for (const UncertifiedCell& c : run.uncertified) boxes.push_back({c.box, c.depth, c.reason});
+  app::write_atomically(
+      path, [&](const std::string& tmp) { viz::write_boxes_vtu(tmp, boxes, surface.expression); });
+#else
+  (void)path, (void)run, (void)surface;
+#endif
+}
+
+void print_certificate(const meshing::MeshRun& run) {
+  const nlohmann::json& d = run.details;
+  if (run.uncertified.empty()) {
+    std::printf("certified    topology certified: every cell holding surface passed\n");
+  } else {
+    std::printf(
+        "uncertified  %zu cells reached depth %s without a certificate (meshed best-effort)\n",
+        run.uncertified.size(), d["max_depth"].dump().c_str());
+  }
+  std::printf("distance     mesh and surface within %.3g of each other inside certified cells\n",
+              d["distance_bound"]["certified"].get<double>());
+}
+
+void add_certificate(nlohmann::json& j, const meshing::MeshRun& run, const Mesh& mesh) {
+  j["topology_certified"] = run.uncertified.empty();
+  j["uncertified_cells"] = run.uncertified.size();
+  j["distance_bound"] = run.details["distance_bound"];
+  j.update(meshing::topology_json(mesh.triangles()));
+}
 
 void run(const MeshOptions& o) {
   if (o.threads < 0)
@@ -41,6 +94,7 @@ void run(const MeshOptions& o) {
   if (!o.report.empty() && app::extension_of(o.report) != "json") {
     throw Error("--report: the report must be a .json file, got '" + o.report + "'");
   }
+  check_uncertified_option(o, method);
   const meshing::Surface surface =
       meshing::load_surface(o.scene, o.expr, o.bounds, o.params, o.sets);
   o.p.validate();
@@ -53,6 +107,10 @@ void run(const MeshOptions& o) {
   if (run.soup.triangles.empty()) {
     std::string why = "the " + std::string(meshing::method_label(method)) +
                       " mesher found no surface (no sign change of f was seen)";
+    if (!run.uncertified.empty()) {
+      why += "; " + std::to_string(run.uncertified.size()) +
+             " uncertified cells may hold surface where f touches 0 without changing sign";
+    }
     if (run.details.contains("unmeshed_possible_leaves") &&
         run.details["unmeshed_possible_leaves"] > 0) {
       why += "; " + run.details["unmeshed_possible_leaves"].dump() +
@@ -68,10 +126,12 @@ void run(const MeshOptions& o) {
   const std::size_t duplicated = mesh.duplicated_vertices();
   const std::string bytes = encode_mesh(mesh, format, o.binary);
   app::write_text_atomically(o.output, bytes);
+  if (!o.uncertified.empty()) write_uncertified(o.uncertified, run, surface);
 
   std::optional<Enclosure> enc = std::move(run.enclosure);
   MeshReport rep;
-  if (!o.report.empty()) {
+  const bool certified = method == meshing::Method::kCertified;
+  if (!o.report.empty() && !certified) {
     if (!enc) enc = enclose(*surface.tape, o.p.enclose_settings(surface.bounds), exec);
     rep = analyze_mesh(mesh, surface.tape.get(), &*enc);
   } else {
@@ -98,6 +158,7 @@ void run(const MeshOptions& o) {
     std::printf("unmeshed     %s possible leaves show no sign change: surface may touch 0 there\n",
                 run.details["unmeshed_possible_leaves"].dump().c_str());
   }
+  if (certified) print_certificate(run);
   if (duplicated) {
     std::printf("note         %zu vertices duplicated to write non-manifold triangles\n",
                 duplicated);
@@ -111,6 +172,12 @@ void run(const MeshOptions& o) {
     j["settings"] = run.details;
     j["mesh_file"] = o.output;
     j["vertices_duplicated_on_write"] = duplicated;
+#ifdef IAA_HAVE_CGAL
+    j["self_intersections"] = count_self_intersections(mesh.triangles());
+#else
+    j["self_intersections"] = nullptr;  // counted with CGAL, left out of this build
+#endif
+    if (certified) add_certificate(j, run, mesh);
     j["mesh_file_coordinates"] = format == MeshFormat::kPly
                                      ? "float x y z, and exact double x_double y_double z_double"
                                      : "float x y z (rounded from the mesher's double)";
@@ -128,15 +195,29 @@ void setup(CLI::App& app) {
   app.add_option("-p,--param", o->params, "a named parameter NAME=VALUE (repeatable)");
   app.add_option("--set", o->sets,
                  "override a scene key, e.g. 'surface.min=[-1,-1,-1]' (repeatable)");
-  app.add_option("--method", o->method, "octree (ours, from the guaranteed enclosure), cgal or vtk")
+  app.add_option("--method", o->method,
+                 "certified (ours: isotopic inside certified cells), octree (ours, from the "
+                 "guaranteed enclosure), cgal or vtk")
       ->capture_default_str();
   app.add_option("-o,--output", o->output, "mesh file: .ply, .obj, .off or .stl")->required();
   app.add_flag("--binary", o->binary, "write binary PLY or STL (ASCII otherwise)");
   app.add_option("--report", o->report, "write a JSON report (topology, fit, enclosure check)");
   app.add_option("--resolution", o->p.resolution,
-                 "N: octree leaves of a 2^ceil(log2 N) grid, VTK grid N^3, CGAL facet size edge/N")
+                 "N: certified cells of at most 2 edge/N, octree leaves of a 2^ceil(log2 N) grid, "
+                 "VTK grid N^3, CGAL facet size edge/N")
       ->capture_default_str();
   app.add_option("--depth", o->p.depth, "octree: leaf depth (overrides --resolution)");
+  app.add_option("--min-depth", o->p.min_depth,
+                 "certified: splits below the root cells at least for cells that may hold "
+                 "surface (default: from --resolution)");
+  app.add_option("--max-depth", o->p.max_depth,
+                 "certified: splits below the root cells at most; deeper cells are uncertified")
+      ->capture_default_str();
+  app.add_flag("--strict", o->p.strict,
+               "certified: also prove every face free of critical points and every edge "
+               "monotone (slower; see docs/mesh.md)");
+  app.add_option("--uncertified", o->uncertified,
+                 "certified: write the boxes of the uncertified cells (.vtu)");
   app.add_option("--refine", o->p.refine, "octree: extra levels for possible leaves (0..8)")
       ->capture_default_str();
   app.add_option("--flat-tolerance", o->p.flat_tolerance,
@@ -144,7 +225,7 @@ void setup(CLI::App& app) {
                  "the surface lies farther than this fraction of the leaf's edge from the loop's "
                  "plane (0..1; 0: nearly every loop, 1: practically none)")
       ->capture_default_str();
-  app.add_option("--max-boxes", o->p.max_boxes, "octree: limit on enclosure leaves")
+  app.add_option("--max-boxes", o->p.max_boxes, "certified, octree: limit on leaves")
       ->capture_default_str();
   app.add_option("--facet-size", o->p.facet_size,
                  "cgal: facet circumradius bound (overrides --resolution)");
@@ -162,14 +243,17 @@ void setup(CLI::App& app) {
       "  iaa mesh data/scenes/chubs.toml --binary -o chubs.stl            # for a 3D printer\n"
       "  iaa mesh --expr 'x^2 + y^2 + z^2 - 1' --bounds -1.2:1.2,-1.2:1.2,-1.2:1.2 \\\n"
       "           --method vtk --grid 64 -o sphere.obj --report sphere.json\n"
-      "Triangles are oriented with normals towards increasing f. With --method octree, leaves\n"
-      "that may hold surface but show no sign change are counted, never dropped silently.");
+      "  iaa mesh thin_torus.toml -o torus.ply --uncertified unc.vtu --report torus.json\n"
+      "Triangles are oriented with normals towards increasing f. With --method certified (the\n"
+      "default) the mesh is isotopic to the surface inside the certified cells; cells that reach\n"
+      "--max-depth without a certificate are meshed best-effort, counted, and written by\n"
+      "--uncertified. With --method octree, leaves that may hold surface but show no sign change\n"
+      "are counted, never dropped silently.");
   app.callback([o] { run(*o); });
 }
 
-CommandRegistrar reg{{"mesh",
-                      "mesh a surface (octree from the enclosure, cgal, vtk) to PLY/OBJ/OFF/STL",
-                      40, setup}};
+CommandRegistrar reg{
+    {"mesh", "mesh a surface (certified, octree, cgal, vtk) to PLY/OBJ/OFF/STL", 40, setup}};
 
 }  // namespace
 }  // namespace iaa::cli

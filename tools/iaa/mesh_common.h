@@ -18,10 +18,11 @@
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/command.h"
-#include "io/scene_toml.h"
+#include "mesh/certified_mesher.h"
 #include "mesh/cgal_mesher.h"
 #include "mesh/mesh_report.h"
 #include "mesh/octree_mesher.h"
+#include "mesh/topology_report.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/vtk_mesher.h"
 #endif
@@ -66,14 +67,24 @@ inline Surface load_surface(const std::string& scene_path, const std::string& ex
   return s;
 }
 
-enum class Method { kOctree, kCgal, kVtk };
+enum class Method { kCertified, kOctree, kCgal, kVtk };
 
 inline const char* method_label(Method m) {
-  return m == Method::kOctree ? "octree" : (m == Method::kCgal ? "cgal" : "vtk");
+  switch (m) {
+    case Method::kCertified:
+      return "certified";
+    case Method::kOctree:
+      return "octree";
+    case Method::kCgal:
+      return "cgal";
+    default:
+      return "vtk";
+  }
 }
 
 /// Parses a method name; a method whose library was left out of this build is a clear error.
 inline Method parse_mesh_method(const std::string& text) {
+  if (text == "certified") return Method::kCertified;
   if (text == "octree") return Method::kOctree;
   if (text == "cgal") {
 #ifndef IAA_HAVE_CGAL
@@ -87,15 +98,19 @@ inline Method parse_mesh_method(const std::string& text) {
 #endif
     return Method::kVtk;
   }
-  throw Error("--method: unknown mesher '" + text + "'; use octree, cgal or vtk");
+  throw Error("--method: unknown mesher '" + text + "'; use certified, octree, cgal or vtk");
 }
 
-/// Resolution settings shared by the three methods. `resolution` N means: octree leaves of a
-/// 2^ceil(log2 N) grid, VTK on an N^3 grid, CGAL facets of size (longest bounds edge) / N.
+/// Resolution settings shared by the four methods. `resolution` N means: certified cells that may
+/// hold surface no longer than 2 (longest bounds edge) / N, octree leaves of a 2^ceil(log2 N) grid,
+/// VTK on an N^3 grid, CGAL facets of size (longest bounds edge) / N.
 struct MeshParams {
   int resolution = 256;
-  int depth = 0;   ///< octree depth; 0: from resolution
-  int refine = 4;  ///< octree: extra levels for possible leaves
+  int min_depth = -1;  ///< certified: splits below the root cells at least; -1: from resolution
+  int max_depth = CertifiedMeshSettings{}.max_depth;  ///< certified: the certification limit
+  bool strict = false;                                ///< certified: prove faces and edges too
+  int depth = 0;                                      ///< octree depth; 0: from resolution
+  int refine = 4;                                     ///< octree: extra levels for possible leaves
   double flat_tolerance = OctreeMeshSettings{}.flat_tolerance;  ///< octree: see the setting
   std::uint64_t max_boxes = EncloseSettings{}.max_boxes;
   double facet_size = 0;      ///< cgal; 0: from resolution
@@ -127,6 +142,7 @@ struct MeshParams {
           "--facet-size and --facet-distance must be positive lengths (0: automatic)");
     }
     if (grid < 0) throw SettingError("--grid must be in 2..2048 (0: from --resolution)");
+    if (min_depth < -1) throw SettingError("--min-depth must be 0 or more (-1: from --resolution)");
     if (!(flat_tolerance >= 0 && flat_tolerance <= 1)) {
       throw SettingError("--flat-tolerance must be in 0..1 (a fraction of the leaf's edge), got " +
                          std::to_string(flat_tolerance));
@@ -143,9 +159,69 @@ struct MeshRun {
   TriangleSoup soup;
   double seconds = 0;
   nlohmann::json details;
-  std::string summary;                 ///< one line: the method and its main settings
-  std::optional<Enclosure> enclosure;  ///< the octree's own enclosure
+  std::string summary;                       ///< one line: the method and its main settings
+  std::optional<Enclosure> enclosure;        ///< the octree's own enclosure
+  std::vector<UncertifiedCell> uncertified;  ///< certified: the cells it could not certify
 };
+
+/// The certified mesher's settings for these parameters (validated).
+inline CertifiedMeshSettings certified_settings(const Surface& s, const MeshParams& p) {
+  CertifiedMeshSettings cs;
+  cs.bounds = s.bounds;
+  cs.max_depth = p.max_depth;
+  cs.max_boxes = p.max_boxes;
+  cs.strict = p.strict;
+  cs.min_depth = 0;
+  cs.validate();
+  const Vec3 size = s.bounds.size();
+  const double longest = std::fmax(size.x, std::fmax(size.y, size.z));
+  // A cell's fan has about twice the triangles of a marching-cubes voxel: cells of twice the
+  // voxel's edge give meshes of comparable size.
+  cs.min_depth =
+      p.min_depth >= 0 ? p.min_depth : certified_depth_for_edge(cs, 2 * longest / p.resolution);
+  cs.validate();
+  return cs;
+}
+
+inline void run_certified(const Surface& s, const MeshParams& p, const Exec& exec, MeshRun& run) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const CertifiedMeshSettings cs = certified_settings(s, p);
+  CertifiedMesh cm = mesh_certified(*s.tape, cs, exec);
+  run.seconds = seconds_since(t0);
+  run.soup = std::move(cm.soup);
+  run.uncertified = std::move(cm.uncertified);
+  const CertifiedMeshStats& st = cm.stats;
+  run.details = {{"min_depth", cs.min_depth},
+                 {"max_depth", cs.max_depth},
+                 {"strict", cs.strict},
+                 {"root_cells", st.roots},
+                 {"leaves", st.leaves},
+                 {"empty_leaves", st.empty_leaves},
+                 {"certified_leaves", st.certified_leaves},
+                 {"uncertified_leaves", st.uncertified_leaves},
+                 {"uncertain_corners", st.uncertain_corners},
+                 {"open_chains", st.open_chains},
+                 {"rounds", st.rounds},
+                 {"interval_evaluations", st.interval_evaluations},
+                 {"finest_depth", st.finest_depth},
+                 {"seconds_refine", st.seconds_refine},
+                 {"seconds_table", st.seconds_table},
+                 {"seconds_extract", st.seconds_extract},
+                 {"seconds_assemble", st.seconds_assemble}};
+  run.details["distance_bound"] = {
+      {"certified", st.distance_bound},
+      {"uncertified", st.uncertified_distance_bound},
+      {"meaning",
+       "the largest diagonal of a leaf that holds mesh: within the certified leaves, every mesh "
+       "point lies within 'certified' of the surface and every surface point within "
+       "'certified' of the mesh (the same for uncertified leaves with 'uncertified', where the "
+       "mesh may miss or add pieces)"}};
+  run.summary = "certified, depth " + std::to_string(cs.min_depth) + ".." +
+                std::to_string(cs.max_depth) + " below " + std::to_string(st.roots[0]) + "x" +
+                std::to_string(st.roots[1]) + "x" + std::to_string(st.roots[2]) +
+                " root cells: " + std::to_string(st.leaves) + " leaves, " +
+                std::to_string(st.uncertified_leaves) + " uncertified";
+}
 
 inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const Exec& exec) {
   p.validate();
@@ -153,7 +229,9 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
   const auto t0 = std::chrono::steady_clock::now();
   [[maybe_unused]] const double edge =
       std::fmax(s.bounds.size().x, std::fmax(s.bounds.size().y, s.bounds.size().z));
-  if (m == Method::kOctree) {
+  if (m == Method::kCertified) {
+    run_certified(s, p, exec, run);
+  } else if (m == Method::kOctree) {
     OctreeMeshSettings os;
     os.enclose = p.enclose_settings(s.bounds);
     os.flat_tolerance = p.flat_tolerance;
@@ -221,6 +299,22 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
 #endif
   }
   return run;
+}
+
+/// The topology fields of `iaa mesh --report`: per closed component its genus.
+inline nlohmann::json topology_json(const TriangleSoup& soup) {
+  const TopologyReport t = analyze_topology(soup);
+  nlohmann::json genus = nlohmann::json::array();
+  nlohmann::json comps = nlohmann::json::array();
+  for (const ComponentTopology& c : t.components) {
+    if (c.genus >= 0) genus.push_back(c.genus);
+    comps.push_back({{"triangles", c.triangles},
+                     {"euler_characteristic", c.euler},
+                     {"boundary_edges", c.boundary_edges},
+                     {"nonmanifold_edges", c.nonmanifold_edges},
+                     {"genus", c.genus >= 0 ? nlohmann::json(c.genus) : nlohmann::json(nullptr)}});
+  }
+  return {{"genus_of_closed_components", genus}, {"component_topology", comps}};
 }
 
 inline nlohmann::json report_json(const MeshReport& r) {

@@ -1,0 +1,964 @@
+// The certified mesher (certified_mesher.h; the argument is in docs/mesh.md).
+//
+// Phases: (1) each root cell is refined on its own until its leaves are empty or pass the local
+// certificate (gradient cone of the cell, tangential gradient of its 6 faces, derivative along its
+// 12 edges); (2) all leaf corners go into one sorted table with their signs; each non-empty leaf
+// cuts its faces into the pieces its neighbours make, pairs the crossings of each piece, chains
+// them into loops and fans each loop; a leaf whose pieces, loops or fan fail the global rules is
+// split and phase (1) runs on its children. (2) repeats until no leaf is split.
+#include "mesh/certified_mesher.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "enclose/octree.h"
+#include "expr/eval_interval.h"
+#include "expr/eval_interval_grad.h"
+#include "expr/eval_point.h"
+#include "expr/eval_point_grad.h"
+
+namespace iaa {
+
+void CertifiedMeshSettings::validate() const {
+  for (int a = 0; a < 3; ++a) {
+    if (!std::isfinite(bounds.lo[a]) || !std::isfinite(bounds.hi[a]) ||
+        !(bounds.lo[a] < bounds.hi[a])) {
+      throw SettingError("certified mesh: every bounds range must be finite with LO < HI");
+    }
+  }
+  if (max_roots_per_axis < 1 || max_roots_per_axis > 64) {
+    throw SettingError("certified mesh: roots per axis must be in 1..64, got " +
+                       std::to_string(max_roots_per_axis));
+  }
+  const int root_bits = static_cast<int>(std::ceil(std::log2(max_roots_per_axis)));
+  const int deepest = kGridBits - root_bits;
+  if (max_depth < 1 || max_depth > deepest) {
+    throw SettingError("certified mesh: max depth must be in 1.." + std::to_string(deepest) +
+                       " (fine grid of 2^" + std::to_string(kGridBits) + " per axis over up to " +
+                       std::to_string(max_roots_per_axis) + " root cells), got " +
+                       std::to_string(max_depth));
+  }
+  if (min_depth < 0 || min_depth > max_depth) {
+    throw SettingError("certified mesh: min depth must be in 0..max depth (" +
+                       std::to_string(max_depth) + "), got " + std::to_string(min_depth));
+  }
+  if (max_boxes < 1) throw SettingError("certified mesh: max boxes must be at least 1");
+  if (edge_steps < 0 || edge_steps > 60 || centre_steps < 0 || centre_steps > 20) {
+    throw SettingError("certified mesh: edge steps must be in 0..60 and centre steps in 0..20");
+  }
+}
+
+namespace {
+
+using Key = std::uint64_t;
+using Index3 = std::array<std::uint32_t, 3>;
+constexpr int kKeyBits = 20;
+
+Key make_key(const Index3& p) {
+  return Key(p[0]) | (Key(p[1]) << kKeyBits) | (Key(p[2]) << (2 * kKeyBits));
+}
+Index3 key_point(Key k) {
+  const Key m = (Key{1} << kKeyBits) - 1;
+  return {std::uint32_t(k & m), std::uint32_t((k >> kKeyBits) & m),
+          std::uint32_t(k >> (2 * kKeyBits))};
+}
+
+enum class Kind : std::uint8_t { kEmpty, kCertified, kUncertified };
+
+/// A leaf: its lowest corner on the fine grid, its depth below the root cells, and what phase 1
+/// proved. `sign` is the sign of f on an empty leaf (+1, -1; 0 where f may be undefined).
+struct Leaf {
+  Index3 at;
+  std::uint8_t depth;
+  Kind kind;
+  std::int8_t sign;
+};
+
+/// The fine grid: root cells per axis 2^root_bits[a], each split max_depth times.
+struct Grid {
+  Box3 bounds;
+  std::array<int, 3> root_bits{};
+  int max_depth = 0;
+
+  std::uint32_t size(int depth) const { return std::uint32_t{1} << (max_depth - depth); }
+  /// Grid line i of axis a; needs a RoundingScope (grid_coordinate_upward), so that every caller
+  /// gets the same double for the same line.
+  double coord(int a, std::uint64_t i) const {
+    return grid_coordinate_upward(bounds.lo[a], bounds.hi[a], i, root_bits[a] + max_depth);
+  }
+  Vec3 point(const Index3& p) const { return {coord(0, p[0]), coord(1, p[1]), coord(2, p[2])}; }
+  Box3 box(const Index3& at, std::uint32_t s) const {
+    return {point(at), point({at[0] + s, at[1] + s, at[2] + s})};
+  }
+};
+
+/// Per-thread evaluators.
+struct Evaluators {
+  explicit Evaluators(const Tape& t) : f(t), g(t), p(t), pg(t) {}
+  IntervalEval f;
+  IntervalGradEval g;
+  PointEval p;
+  PointGradEval pg;
+  std::uint64_t evaluations = 0;
+};
+using ThreadEvaluators = tbb::enumerable_thread_specific<std::unique_ptr<Evaluators>>;
+
+bool zero_free(const Interval& v) {
+  return v.hi() <= 0.0 || v.lo() > 0.0;
+}
+
+/// The value of f over `b` bounded twice, by the natural interval `g.v` and by the mean-value form
+/// f(c) + G(b).(b - c) around b's centre c, intersected. The mean-value form's overestimation
+/// shrinks with the square of the box's size, the natural interval's only linearly: near a
+/// tangency between the surface and a grid plane only the former can prove a face free of zeros.
+/// At kinks (min, max, abs) G holds every generalized gradient, for which the mean-value theorem
+/// of Lipschitz functions (Lebourg) holds.
+Interval mean_value(Evaluators& e, const IBox& b, const IGrad& g) {
+  Vec3 c;
+  IBox point;
+  for (int a = 0; a < 3; ++a) {
+    c[a] = b[a].lo() == b[a].hi() ? b[a].lo()
+                                  : std::clamp(0.5 * (b[a].lo() + b[a].hi()), b[a].lo(), b[a].hi());
+    point[a] = Interval(c[a]);
+  }
+  ++e.evaluations;
+  Interval v = e.f.eval(point);
+  if (e.f.partial_domain()) return g.v;
+  for (int a = 0; a < 3; ++a) {
+    if (b[a].lo() != b[a].hi()) v = v + g.g[std::size_t(a)] * (b[a] - point[a]);
+  }
+  return intersect(v, g.v);
+}
+
+/// The gradient evaluation of a box degenerate along the axes in `flat` (bit a: axis a at lo),
+/// with its value bounded by the mean-value form as well.
+IGrad eval_flat(Evaluators& e, const Box3& b, int flat) {
+  IBox ib(b);
+  for (int a = 0; a < 3; ++a) {
+    if (flat & (1 << a)) ib[a] = Interval(b.lo[a]);
+  }
+  ++e.evaluations;
+  IGrad g = e.g.eval(ib);
+  if (e.g.partial_domain()) return g;
+  if (!zero_free(g.v)) g.v = mean_value(e, ib, g);
+  return g;
+}
+
+/// f has no zero on the edge box, or is monotone along it: its derivative along `axis` keeps one
+/// sign. Weak monotonicity is accepted (a derivative interval [0, d] or [-d, 0]) because grid
+/// planes often are planes of symmetry, where the derivative vanishes at an edge's end; f - delta
+/// then has at most one zero on the edge for all but countably many delta (docs/mesh.md).
+bool edge_ok(Evaluators& e, const Box3& edge, int axis) {
+  const IGrad g = eval_flat(e, edge, 7 & ~(1 << axis));
+  if (e.g.partial_domain()) return false;
+  const Interval& d = g.g[std::size_t(axis)];
+  return zero_free(g.v) || d.lo() >= 0.0 || d.hi() <= 0.0;
+}
+
+/// The local certificate of a cell: the gradient cone (0 outside the dot product of two
+/// independent gradient enclosures); in strict mode also faces with a nowhere-vanishing
+/// tangential gradient and edges on which f is monotone (or zero-free).
+/// True when f is strictly monotone along some fixed direction over the cell whose gradient
+/// enclosure is `g`: Plantinga and Vegter's cone test (0 outside the dot product of two
+/// independent copies of G, so that every gradient has a positive dot product with any other),
+/// or 0 outside d.G for one of the 13 directions of the axes, face and body diagonals. Either
+/// way every line along the direction meets the surface in the cell at most once.
+bool monotone(const IGrad& c) {
+  const Interval dot = c.g[0] * c.g[0] + c.g[1] * c.g[1] + c.g[2] * c.g[2];
+  if (dot.lo() > 0.0) return true;
+  static constexpr int kDirs[13][3] = {{1, 0, 0},  {0, 1, 0},  {0, 0, 1},  {1, 1, 0},  {1, -1, 0},
+                                       {1, 0, 1},  {1, 0, -1}, {0, 1, 1},  {0, 1, -1}, {1, 1, 1},
+                                       {1, 1, -1}, {1, -1, 1}, {1, -1, -1}};
+  for (const auto& d : kDirs) {
+    Interval s(0.0);
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (d[a] == 1) s = s + c.g[a];
+      if (d[a] == -1) s = s - c.g[a];
+    }
+    if (!s.contains_zero()) return true;
+  }
+  return false;
+}
+
+bool locally_certified(Evaluators& e, const Box3& b, const IGrad& c, bool strict) {
+  if (!monotone(c)) return false;
+  if (!strict) return true;
+  for (int a = 0; a < 3; ++a) {
+    const std::size_t u = std::size_t((a + 1) % 3), v = std::size_t((a + 2) % 3);
+    for (int side = 0; side < 2; ++side) {
+      Box3 f = b;
+      f.lo[a] = f.hi[a] = side ? b.hi[a] : b.lo[a];
+      const IGrad g = eval_flat(e, f, 1 << a);
+      if (e.g.partial_domain()) return false;
+      if (zero_free(g.v)) continue;
+      if (!((square(g.g[u]) + square(g.g[v])).lo() > 0.0)) return false;
+    }
+  }
+  for (int a = 0; a < 3; ++a) {
+    const int u = (a + 1) % 3, v = (a + 2) % 3;
+    for (int k = 0; k < 4; ++k) {
+      Box3 ed = b;
+      ed.lo[u] = ed.hi[u] = (k & 1) ? b.hi[u] : b.lo[u];
+      ed.lo[v] = ed.hi[v] = (k & 2) ? b.hi[v] : b.lo[v];
+      if (!edge_ok(e, ed, a)) return false;
+    }
+  }
+  return true;
+}
+
+/// Phase 1: refines one cell into leaves (depth-first order).
+class Refiner {
+ public:
+  Refiner(const Grid& g, const CertifiedMeshSettings& s, std::atomic<std::uint64_t>& count)
+      : grid_(g), settings_(s), count_(count) {}
+
+  void refine(Evaluators& e, const Index3& at, int depth, std::vector<Leaf>& out) const {
+    const std::uint32_t s = grid_.size(depth);
+    const Box3 b = grid_.box(at, s);
+    ++e.evaluations;
+    const Interval f = e.f.eval(IBox(b));
+    const bool defined = !e.f.partial_domain();
+    if (zero_free(f) || f.is_empty()) {
+      const std::int8_t sign = !defined || f.is_empty() ? 0 : (f.lo() > 0.0 ? 1 : -1);
+      return emit(out, {at, std::uint8_t(depth), Kind::kEmpty, sign});
+    }
+    // The mean-value form often proves what the natural interval could not.
+    ++e.evaluations;
+    const IGrad g = e.g.eval(IBox(b));
+    const bool smooth = !e.g.partial_domain();
+    if (smooth && defined) {
+      const Interval mv = mean_value(e, IBox(b), g);
+      if (zero_free(mv))
+        return emit(out, {at, std::uint8_t(depth), Kind::kEmpty,
+                          mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)});
+    }
+    if (depth >= settings_.min_depth && smooth && locally_certified(e, b, g, settings_.strict)) {
+      return emit(out, {at, std::uint8_t(depth), Kind::kCertified, 0});
+    }
+    if (depth == grid_.max_depth) {
+      return emit(out, {at, std::uint8_t(depth), Kind::kUncertified, 0});
+    }
+    const std::uint32_t h = s / 2;
+    for (int k = 0; k < 8; ++k) {
+      refine(e, {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h},
+             depth + 1, out);
+    }
+  }
+
+ private:
+  void emit(std::vector<Leaf>& out, const Leaf& l) const {
+    out.push_back(l);
+    if (count_.fetch_add(1, std::memory_order_relaxed) + 1 > settings_.max_boxes) {
+      throw SettingError("certified mesh: more than " + std::to_string(settings_.max_boxes) +
+                         " leaves are needed (the box limit); raise the limit or lower the "
+                         "maximum depth");
+    }
+  }
+  const Grid& grid_;
+  const CertifiedMeshSettings& settings_;
+  std::atomic<std::uint64_t>& count_;
+};
+
+/// Leaf corners, sorted, with the sign of f there: +1 (f > 0), -1 (f <= 0, which is how a corner
+/// on the surface counts: the mesh follows f = delta for small delta > 0), and whether the
+/// interval evaluation could not decide (taken as -1).
+struct VertexTable {
+  std::vector<Key> keys;
+  std::vector<std::int8_t> signs;
+  std::vector<std::uint8_t> uncertain;
+  /// Open addressing: each slot holds a key (kNone: empty) with its sign and uncertainty, so
+  /// that a lookup touches one cache line. Size a power of two.
+  struct Slot {
+    Key key;
+    std::int8_t sign;
+    std::uint8_t uncertain;
+  };
+  static constexpr Key kNone = ~Key{0};
+  std::vector<Slot> slots;
+  std::uint64_t mask = 0;
+  int shift = 60;
+
+  // Fibonacci hashing: the high bits of the product mix every bit of the key.
+  std::uint64_t hash(Key k) const { return (k * 0x9E3779B97F4A7C15ull) >> shift; }
+  void build_hash() {
+    std::uint64_t n = 16;
+    shift = 60;
+    while (n < 2 * keys.size()) n *= 2, --shift;
+    mask = n - 1;
+    slots.assign(n, Slot{kNone, 0, 0});
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      std::uint64_t h = hash(keys[i]) & mask;
+      while (slots[h].key != kNone) h = (h + 1) & mask;
+      slots[h] = {keys[i], signs[i], uncertain[i]};
+    }
+  }
+  /// The slot of k, or null.
+  const Slot* find(Key k) const {
+    for (std::uint64_t h = hash(k) & mask;; h = (h + 1) & mask) {
+      const Slot& s = slots[h];
+      if (s.key == k) return &s;
+      if (s.key == kNone) return nullptr;
+    }
+  }
+  bool contains(Key k) const { return find(k) != nullptr; }
+  /// Asks the memory for k's slot ahead of find(k).
+  void prefetch(Key k) const { __builtin_prefetch(&slots[hash(k) & mask]); }
+};
+
+/// The interval sign of f at a point: +1, -1 (f <= 0), or 0 when undecided.
+std::int8_t point_sign(Evaluators& e, const Vec3& p) {
+  ++e.evaluations;
+  const Interval v = e.f.eval(IBox(Interval(p.x), Interval(p.y), Interval(p.z)));
+  if (e.f.partial_domain() || v.is_empty()) return 0;
+  if (v.lo() > 0.0) return 1;
+  if (v.hi() <= 0.0) return -1;
+  return 0;
+}
+
+VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
+                           ThreadEvaluators& evals, const Exec& exec) {
+  // Each corner as (key << 2 | code): 0 proved f <= 0, 1 proved f > 0 (from an empty leaf),
+  // 2 to evaluate (a corner of a leaf that may hold surface), 3 nothing known.
+  std::vector<std::uint64_t> all(leaves.size() * 8);
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096), [&](auto r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        const Leaf& l = leaves[i];
+        const std::uint32_t s = grid.size(l.depth);
+        const std::uint64_t code =
+            l.kind != Kind::kEmpty ? 2 : (l.sign < 0 ? 0 : (l.sign > 0 ? 1 : 3));
+        for (std::uint32_t k = 0; k < 8; ++k) {
+          const Key key = make_key(
+              {l.at[0] + (k & 1) * s, l.at[1] + ((k >> 1) & 1) * s, l.at[2] + ((k >> 2) & 1) * s});
+          all[8 * i + k] = (key << 2) | code;
+        }
+      }
+    });
+    tbb::parallel_sort(all.begin(), all.end());
+  });
+  VertexTable t;
+  for (std::size_t i = 0; i < all.size();) {
+    const Key key = all[i] >> 2;
+    // The smallest code of the key decides: a proved sign before "evaluate".
+    const std::uint64_t code = all[i] & 3;
+    while (i < all.size() && (all[i] >> 2) == key) ++i;
+    t.keys.push_back(key);
+    // 3: to evaluate, also a corner that only empty leaves where f may be undefined touch: a
+    // finer neighbour's corner on a leaf's face may be one, and its sign is then needed.
+    t.signs.push_back(code == 0 ? -1 : (code == 1 ? 1 : 3));
+  }
+  t.uncertain.assign(t.keys.size(), 0);
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.keys.size(), 1024), [&](auto r) {
+      RoundingScope scope;
+      auto& ep = evals.local();
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        if (t.signs[i] != 3) continue;
+        const std::int8_t s = point_sign(*ep, grid.point(key_point(t.keys[i])));
+        t.signs[i] = s == 0 ? -1 : s;
+        t.uncertain[i] = s == 0;
+      }
+    });
+  });
+  t.build_hash();
+  return t;
+}
+
+/// A mesh vertex on an edge piece: its id (lower end's key and axis), and its ends.
+struct Crossing {
+  Key id;
+  Key lo, hi;
+  int axis;
+};
+
+/// What extraction produced for one leaf.
+struct CellOut {
+  bool split = false;      ///< a global rule failed: split the leaf (or, at max depth, give up)
+  bool uncertain = false;  ///< a corner's sign was not decided
+  std::uint64_t open_chains = 0;
+  std::vector<std::pair<Key, Vec3>> crossings;  ///< local vertices 0..n-1
+  std::vector<Vec3> centres;                    ///< local vertices n..
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+class Extractor {
+ public:
+  Extractor(const Grid& g, const VertexTable& t, const CertifiedMeshSettings& s, Evaluators& e)
+      : grid_(g), table_(t), settings_(s), e_(e) {}
+
+  CellOut run(const Leaf& leaf) {
+    leaf_ = leaf;
+    size_ = grid_.size(leaf.depth);
+    certify_ = leaf.kind == Kind::kCertified;
+    out_ = {};
+    segments_.clear();
+    crossings_.clear();
+    if (quiet()) return std::move(out_);
+    for (int a = 0; a < 3; ++a) {
+      for (int side = 0; side < 2; ++side) face(a, side);
+    }
+    loops();
+    return std::move(out_);
+  }
+
+ private:
+  // True when the leaf's boundary holds no crossing, seen cheaply: its 8 corners have one sign
+  // and no finer neighbour puts a corner on its faces or edges (every such corner would make a
+  // face centre or an edge midpoint a leaf corner). Most leaves are quiet.
+  bool quiet() {
+    const Index3& p = leaf_.at;
+    const std::uint32_t s = size_, h = s / 2;
+    // The lookups below miss the cache, independently: start them all at once.
+    for (std::uint32_t k = 0; k < 27; ++k) {
+      const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
+      Index3 q;
+      for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
+      table_.prefetch(make_key(q));
+    }
+    std::int8_t first = 0;
+    for (std::uint32_t k = 0; k < 8; ++k) {
+      const std::int8_t g = sign(
+          make_key({p[0] + (k & 1) * s, p[1] + ((k >> 1) & 1) * s, p[2] + ((k >> 2) & 1) * s}));
+      if (k == 0) first = g;
+      if (g != first) return false;
+    }
+    if (s == 1) return true;
+    // Face centres (one coordinate at 0 or s, the others at h) and edge midpoints (one at h).
+    for (std::uint32_t k = 0; k < 27; ++k) {
+      const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
+      const int mids = (c[0] == 1) + (c[1] == 1) + (c[2] == 1);
+      if (mids != 1 && mids != 2) continue;
+      Index3 q;
+      for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
+      if (table_.contains(make_key(q))) return false;
+    }
+    return true;
+  }
+
+  Key key_at(int a, std::uint32_t w, std::uint32_t u, std::uint32_t v) const {
+    Index3 p;
+    p[std::size_t(a)] = w;
+    p[std::size_t((a + 1) % 3)] = u;
+    p[std::size_t((a + 2) % 3)] = v;
+    return make_key(p);
+  }
+
+  // Cuts face (a, side) into the pieces that the leaves on its other side make.
+  void face(int a, int side) {
+    const std::uint32_t w = leaf_.at[std::size_t(a)] + (side ? size_ : 0);
+    piece(a, side, w, leaf_.at[std::size_t((a + 1) % 3)], leaf_.at[std::size_t((a + 2) % 3)],
+          size_);
+  }
+
+  void piece(int a, int side, std::uint32_t w, std::uint32_t u0, std::uint32_t v0,
+             std::uint32_t s) {
+    const std::uint32_t h = s / 2;
+    if (s > 1 && table_.contains(key_at(a, w, u0 + h, v0 + h))) {
+      for (int k = 0; k < 4; ++k) piece(a, side, w, u0 + (k & 1) * h, v0 + (k >> 1) * h, h);
+      return;
+    }
+    // The piece's boundary, counter-clockwise seen from outside the leaf.
+    cycle_.clear();
+    const std::array<std::array<std::uint32_t, 2>, 4> c = {
+        {{u0, v0}, {u0 + s, v0}, {u0 + s, v0 + s}, {u0, v0 + s}}};
+    for (int i = 0; i < 4; ++i) {
+      const auto& p = c[std::size_t(i)];
+      const auto& q = c[std::size_t((i + 1) % 4)];
+      cycle_.push_back(key_at(a, w, p[0], p[1]));
+      side_points(a, w, p, q, s);
+    }
+    if (side == 0) std::reverse(cycle_.begin(), cycle_.end());
+    pair_crossings(a, w, u0, v0, s);
+  }
+
+  // Appends the leaf corners strictly between p and q (a side of a piece), in order.
+  void side_points(int a, std::uint32_t w, std::array<std::uint32_t, 2> p,
+                   std::array<std::uint32_t, 2> q, std::uint32_t len) {
+    if (len < 2) return;
+    const std::array<std::uint32_t, 2> m = {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2};
+    const Key km = key_at(a, w, m[0], m[1]);
+    if (!table_.contains(km)) return;
+    side_points(a, w, p, m, len / 2);
+    cycle_.push_back(km);
+    side_points(a, w, m, q, len / 2);
+  }
+
+  std::int8_t sign(Key k) {
+    const VertexTable::Slot* s = table_.find(k);
+    if (!s) {  // cannot happen: every cycle point is a leaf corner
+      out_.uncertain = true;
+      return -1;
+    }
+    if (s->uncertain) out_.uncertain = true;
+    return s->sign;
+  }
+
+  // The crossings of one piece, paired into segments (up crossing to down crossing).
+  void pair_crossings(int a, std::uint32_t w, std::uint32_t u0, std::uint32_t v0, std::uint32_t s) {
+    const std::size_t n = cycle_.size();
+    std::vector<std::pair<Key, bool>> xs;  // crossing id, up (- to +)
+    for (std::size_t i = 0; i < n; ++i) {
+      const Key p = cycle_[i], q = cycle_[(i + 1) % n];
+      check_inner_edge(p, q);
+      const std::int8_t sp = sign(p), sq = sign(q);
+      if (sp == sq) continue;
+      xs.emplace_back(add_crossing(p, q), sp < 0);
+    }
+    if (xs.empty()) return;
+    if (xs.size() > 2) {
+      out_.split = true;
+      // Best effort: the sign at the piece's centre says which side is connected.
+      const Vec3 centre = grid_.point(key_point(key_at(a, w, u0 + s / 2, v0 + s / 2)));
+      const Vec3 mid = s > 1 ? centre
+                             : 0.5 * (grid_.point(key_point(key_at(a, w, u0, v0))) +
+                                      grid_.point(key_point(key_at(a, w, u0 + s, v0 + s))));
+      const bool negative_connected = point_sign(e_, mid) <= 0;
+      const std::size_t m = xs.size();
+      for (std::size_t i = 0; i < m; ++i) {
+        if (!xs[i].second) continue;
+        const std::size_t j = negative_connected ? (i + 1) % m : (i + m - 1) % m;
+        segments_.emplace_back(xs[i].first, xs[j].first);
+      }
+      return;
+    }
+    if (xs[0].second)
+      segments_.emplace_back(xs[0].first, xs[1].first);
+    else
+      segments_.emplace_back(xs[1].first, xs[0].first);
+  }
+
+  // An edge piece inside a face of this leaf lies on an edge of a finer neighbour, which this
+  // leaf's own edge checks do not cover: check it here.
+  void check_inner_edge(Key p, Key q) {
+    if (!certify_ || !settings_.strict) return;
+    const Index3 ip = key_point(p), iq = key_point(q);
+    int axis = 0;
+    while (axis < 2 && ip[std::size_t(axis)] == iq[std::size_t(axis)]) ++axis;
+    for (int b = 0; b < 3; ++b) {
+      if (b == axis) continue;
+      const std::uint32_t c = ip[std::size_t(b)], lo = leaf_.at[std::size_t(b)];
+      if (c != lo && c != lo + size_) {
+        Box3 ed{grid_.point(ip), grid_.point(iq)};
+        for (int k = 0; k < 3; ++k) {
+          if (ed.lo[k] > ed.hi[k]) std::swap(ed.lo[k], ed.hi[k]);
+        }
+        if (!edge_ok(e_, ed, axis)) out_.split = true;
+        return;
+      }
+    }
+  }
+
+  Key add_crossing(Key p, Key q) {
+    const Index3 ip = key_point(p), iq = key_point(q);
+    int axis = 0;
+    while (axis < 2 && ip[std::size_t(axis)] == iq[std::size_t(axis)]) ++axis;
+    const bool p_low = ip[std::size_t(axis)] < iq[std::size_t(axis)];
+    const Key lo = p_low ? p : q, hi = p_low ? q : p;
+    const Key id = (lo << 2) | Key(axis);
+    for (const Crossing& c : crossings_) {
+      if (c.id == id) return id;
+    }
+    crossings_.push_back({id, lo, hi, axis});
+    return id;
+  }
+
+  // Regula falsi (Illinois) on the edge piece; the bracket keeps the vertex on it. The vertex
+  // stays 2^-20 of the piece away from its ends: a corner where f = 0 counts as negative (the
+  // mesh follows f = delta for a small delta > 0), so the crossing lies just off that corner, and
+  // the crossings of the several edges that meet there stay distinct.
+  Vec3 place(const Crossing& c) {
+    const Vec3 a = grid_.point(key_point(c.lo)), b = grid_.point(key_point(c.hi));
+    double ta = 0, tb = 1;
+    double fa = e_.p.eval(a), fb = e_.p.eval(b);
+    auto at = [&](double t) {
+      constexpr double kOff = 0x1p-20;
+      Vec3 p = a;
+      p[c.axis] = a[c.axis] + std::clamp(t, kOff, 1 - kOff) * (b[c.axis] - a[c.axis]);
+      return p;
+    };
+    if (!(std::isfinite(fa) && std::isfinite(fb)) || (fa > 0) == (fb > 0)) return at(0.5);
+    int side = 0;
+    double last = -1;
+    for (int i = 0; i < settings_.edge_steps; ++i) {
+      double t = (ta * fb - tb * fa) / (fb - fa);
+      if (!(t > ta && t < tb)) t = 0.5 * (ta + tb);
+      if (std::fabs(t - last) < 1e-12) break;  // converged: further steps move it by less
+      last = t;
+      const double ft = e_.p.eval(at(t));
+      if (!std::isfinite(ft) || ft == 0) return at(t);
+      if ((ft > 0) == (fa > 0)) {
+        ta = t, fa = ft;
+        if (side == -1) fb *= 0.5;
+        side = -1;
+      } else {
+        tb = t, fb = ft;
+        if (side == 1) fa *= 0.5;
+        side = 1;
+      }
+    }
+    return at((ta * fb - tb * fa) / (fb - fa));
+  }
+
+  // Chains the segments into loops and fans each loop.
+  void loops() {
+    if (segments_.empty()) return;
+    std::vector<std::pair<Key, Vec3>> pos;
+    for (const Crossing& c : crossings_) {
+      // Up to four leaves share an edge piece: each placement is kept for the leaves after it.
+      auto it = placed_.find(c.id);
+      if (it == placed_.end()) it = placed_.emplace(c.id, place(c)).first;
+      pos.emplace_back(c.id, it->second);
+    }
+    out_.crossings = pos;
+    auto local = [&](Key id) {
+      for (std::size_t i = 0; i < pos.size(); ++i) {
+        if (pos[i].first == id) return std::uint32_t(i);
+      }
+      return std::uint32_t(0);
+    };
+    std::vector<bool> used(segments_.size(), false);
+    int n_loops = 0;
+    for (std::size_t s0 = 0; s0 < segments_.size(); ++s0) {
+      if (used[s0]) continue;
+      std::vector<std::uint32_t> loop;
+      std::size_t s = s0;
+      bool closed = false;
+      while (!used[s]) {
+        used[s] = true;
+        loop.push_back(local(segments_[s].first));
+        const Key next = segments_[s].second;
+        if (next == segments_[s0].first) {
+          closed = true;
+          break;
+        }
+        std::size_t t = segments_.size();
+        for (std::size_t k = 0; k < segments_.size(); ++k) {
+          if (!used[k] && segments_[k].first == next) {
+            t = k;
+            break;
+          }
+        }
+        if (t == segments_.size()) break;
+        s = t;
+      }
+      if (!closed) {
+        ++out_.open_chains;
+        out_.split = true;
+        continue;
+      }
+      ++n_loops;
+      fan(loop);
+    }
+    if (n_loops > 1) out_.split = true;
+  }
+
+  void fan(const std::vector<std::uint32_t>& loop) {
+    const std::size_t m = loop.size();
+    if (m < 3) {
+      out_.split = true;
+      return;
+    }
+    if (m == 3) {
+      out_.triangles.push_back({loop[0], loop[2], loop[1]});
+      return;
+    }
+    std::vector<Vec3> p(m);
+    Vec3 mean{};
+    for (std::size_t i = 0; i < m; ++i) {
+      p[i] = out_.crossings[loop[i]].second;
+      mean = mean + p[i];
+    }
+    mean = mean / double(m);
+    const Box3 box = grid_.box(leaf_.at, size_);
+    const Vec3 pulled = pull(clamp_inside(mean, box), box);
+    Vec3 c = pulled;
+    if (!fan_embeds(p, c)) {
+      c = clamp_inside(mean, box);
+      if (!fan_embeds(p, c)) out_.split = true;
+    }
+    const auto ci = std::uint32_t(out_.crossings.size() + out_.centres.size());
+    out_.centres.push_back(c);
+    for (std::size_t i = 0; i < m; ++i) {
+      out_.triangles.push_back({ci, loop[(i + 1) % m], loop[i]});
+    }
+  }
+
+  static Vec3 clamp_inside(Vec3 p, const Box3& b) {
+    for (int a = 0; a < 3; ++a) {
+      const double margin = 1e-3 * (b.hi[a] - b.lo[a]);
+      p[a] = std::clamp(p[a], b.lo[a] + margin, b.hi[a] - margin);
+    }
+    return p;
+  }
+
+  // Newton steps towards f = 0 along the gradient, kept inside the cell; a step that does not
+  // lower |f| is not taken.
+  Vec3 pull(Vec3 c, const Box3& b) {
+    PGrad g = e_.pg.eval(c);
+    for (int i = 0; i < settings_.centre_steps && std::isfinite(g.v); ++i) {
+      const double gg = g.g.x * g.g.x + g.g.y * g.g.y + g.g.z * g.g.z;
+      if (!(gg > 0)) break;
+      const Vec3 n = clamp_inside(c - (g.v / gg) * g.g, b);
+      const PGrad gn = e_.pg.eval(n);
+      if (!(std::fabs(gn.v) < std::fabs(g.v))) break;
+      c = n, g = gn;
+    }
+    return c;
+  }
+
+  // True when the fan of `p` around `c` projects one-to-one along the loop's Newell normal: all
+  // triangles turn the same way and wind once around c.
+  static bool fan_embeds(const std::vector<Vec3>& p, const Vec3& c) {
+    const std::size_t m = p.size();
+    Vec3 n{};
+    for (std::size_t i = 0; i < m; ++i) n = n + cross(p[i], p[(i + 1) % m]);
+    double angle = 0;
+    for (std::size_t i = 0; i < m; ++i) {
+      const Vec3 a = p[i] - c, b = p[(i + 1) % m] - c;
+      const double turn = dot(cross(a, b), n);
+      if (!(turn > 0)) return false;
+      // The angle between the projections of a and b on the plane normal to n.
+      const Vec3 pa = a - (dot(a, n) / dot(n, n)) * n, pb = b - (dot(b, n) / dot(n, n)) * n;
+      angle += std::atan2(std::sqrt(dot(cross(pa, pb), cross(pa, pb))), dot(pa, pb));
+    }
+    return angle < 3 * 3.14159265358979323846;
+  }
+
+  const Grid& grid_;
+  const VertexTable& table_;
+  const CertifiedMeshSettings& settings_;
+  Evaluators& e_;
+  Leaf leaf_{};
+  std::uint32_t size_ = 1;
+  bool certify_ = false;
+  CellOut out_;
+  std::vector<Key> cycle_;
+  std::vector<Crossing> crossings_;
+  std::vector<std::pair<Key, Key>> segments_;
+  std::unordered_map<Key, Vec3> placed_;  ///< crossings placed by this extractor (one range)
+};
+
+Grid make_grid(const CertifiedMeshSettings& s) {
+  Grid g;
+  g.bounds = s.bounds;
+  const Vec3 size = s.bounds.size();
+  const double shortest = std::fmin(size.x, std::fmin(size.y, size.z));
+  const int cap = static_cast<int>(std::ceil(std::log2(s.max_roots_per_axis)));
+  for (int a = 0; a < 3; ++a) {
+    const int bits = static_cast<int>(std::lround(std::log2(size[a] / shortest)));
+    g.root_bits[std::size_t(a)] = std::clamp(bits, 0, cap);
+  }
+  g.max_depth = s.max_depth;
+  return g;
+}
+
+/// Phase 1 over a list of cells, in parallel; leaves in the order of the cells, each cell's
+/// leaves depth-first, whatever the thread count.
+std::vector<Leaf> refine_all(const Refiner& r, const std::vector<std::pair<Index3, int>>& cells,
+                             ThreadEvaluators& evals, const Exec& exec) {
+  std::vector<std::vector<Leaf>> parts(cells.size());
+  exec.run([&] {
+    tbb::parallel_for(std::size_t{0}, cells.size(), [&](std::size_t i) {
+      RoundingScope scope;
+      r.refine(*evals.local(), cells[i].first, cells[i].second, parts[i]);
+    });
+  });
+  std::vector<Leaf> out;
+  for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  return out;
+}
+
+struct Round {
+  VertexTable table;
+  std::vector<CellOut> outs;  ///< per leaf (empty for empty leaves)
+};
+
+/// Extraction of every non-empty leaf (CellOut per leaf, empty for empty leaves).
+std::vector<CellOut> extract_all(const Grid& grid, const std::vector<Leaf>& leaves,
+                                 const VertexTable& table, const CertifiedMeshSettings& s,
+                                 ThreadEvaluators& evals, const Exec& exec) {
+  std::vector<CellOut> outs(leaves.size());
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](auto range) {
+      RoundingScope scope;
+      Extractor x(grid, table, s, *evals.local());
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        if (leaves[i].kind != Kind::kEmpty) outs[i] = x.run(leaves[i]);
+      }
+    });
+  });
+  return outs;
+}
+
+/// The leaves with the failing certified ones replaced by their refinement.
+std::vector<Leaf> split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& leaves,
+                               const std::vector<CellOut>& outs, ThreadEvaluators& evals,
+                               const Exec& exec, bool* any) {
+  std::vector<std::pair<Index3, int>> cells;
+  std::vector<std::size_t> where;
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    const Leaf& l = leaves[i];
+    if (l.kind != Kind::kCertified || !outs[i].split || l.depth == grid.max_depth) continue;
+    const std::uint32_t h = grid.size(l.depth) / 2;
+    for (int k = 0; k < 8; ++k) {
+      cells.push_back(
+          {{l.at[0] + (k & 1) * h, l.at[1] + ((k >> 1) & 1) * h, l.at[2] + ((k >> 2) & 1) * h},
+           l.depth + 1});
+    }
+    where.push_back(i);
+  }
+  *any = !where.empty();
+  if (!*any) return leaves;
+  const std::vector<Leaf> fresh = refine_all(r, cells, evals, exec);
+  // Leaves of the 8 children of where[j], in order: split `fresh` by parent again.
+  std::vector<Leaf> out;
+  out.reserve(leaves.size() + fresh.size());
+  std::size_t next = 0, w = 0;
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    if (w < where.size() && where[w] == i) {
+      const Leaf& p = leaves[i];
+      const std::uint32_t s = grid.size(p.depth);
+      while (next < fresh.size() && fresh[next].at[0] >= p.at[0] &&
+             fresh[next].at[0] < p.at[0] + s && fresh[next].at[1] >= p.at[1] &&
+             fresh[next].at[1] < p.at[1] + s && fresh[next].at[2] >= p.at[2] &&
+             fresh[next].at[2] < p.at[2] + s) {
+        out.push_back(fresh[next++]);
+      }
+      ++w;
+    } else {
+      out.push_back(leaves[i]);
+    }
+  }
+  return out;
+}
+
+/// Joins the leaves' pieces into one mesh (crossings welded by id) and fills the statistics.
+void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r, CertifiedMesh& m) {
+  std::vector<std::pair<Key, Vec3>> all;
+  for (const CellOut& o : r.outs) all.insert(all.end(), o.crossings.begin(), o.crossings.end());
+  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  all.erase(std::unique(all.begin(), all.end(),
+                        [](const auto& a, const auto& b) { return a.first == b.first; }),
+            all.end());
+  TriangleSoup& soup = m.soup;
+  for (const auto& c : all) soup.vertices.push_back(c.second);
+  CertifiedMeshStats& st = m.stats;
+  RoundingScope scope;
+  for (std::size_t i = 0; i < leaves.size(); ++i) {
+    const Leaf& l = leaves[i];
+    st.finest_depth = std::max(st.finest_depth, int(l.depth));
+    if (l.kind == Kind::kEmpty) {
+      ++st.empty_leaves;
+      continue;
+    }
+    const CellOut& o = r.outs[i];
+    const Box3 box = grid.box(l.at, grid.size(l.depth));
+    const bool certified = l.kind == Kind::kCertified && !o.split && !o.uncertain;
+    if (certified) {
+      ++st.certified_leaves;
+    } else {
+      ++st.uncertified_leaves;
+      m.uncertified.push_back({box, int(l.depth), o.uncertain ? 2 : 1});
+    }
+    st.open_chains += o.open_chains;
+    if (o.triangles.empty()) continue;
+    const Vec3 d = box.size();
+    double& bound = certified ? st.distance_bound : st.uncertified_distance_bound;
+    bound = std::fmax(bound, std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z));
+    std::vector<std::uint32_t> map(o.crossings.size() + o.centres.size());
+    for (std::size_t k = 0; k < o.crossings.size(); ++k) {
+      const auto it =
+          std::lower_bound(all.begin(), all.end(), o.crossings[k],
+                           [](const auto& a, const auto& b) { return a.first < b.first; });
+      map[k] = std::uint32_t(it - all.begin());
+    }
+    for (std::size_t k = 0; k < o.centres.size(); ++k) {
+      map[o.crossings.size() + k] = std::uint32_t(soup.vertices.size());
+      soup.vertices.push_back(o.centres[k]);
+    }
+    for (const auto& t : o.triangles) soup.triangles.push_back({map[t[0]], map[t[1]], map[t[2]]});
+  }
+  for (const auto& t : r.table.uncertain) st.uncertain_corners += t;
+}
+
+}  // namespace
+
+std::array<int, 3> certified_root_cells(const CertifiedMeshSettings& settings) {
+  const Grid g = make_grid(settings);
+  return {1 << g.root_bits[0], 1 << g.root_bits[1], 1 << g.root_bits[2]};
+}
+
+int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge) {
+  const std::array<int, 3> roots = certified_root_cells(settings);
+  double longest = 0;
+  for (int a = 0; a < 3; ++a) {
+    longest = std::fmax(longest, settings.bounds.size()[a] / roots[std::size_t(a)]);
+  }
+  int d = 0;
+  while (d < settings.max_depth && std::ldexp(longest, -d) > edge) ++d;
+  return d;
+}
+
+CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,
+                             const Exec& exec) {
+  settings.validate();
+  const Grid grid = make_grid(settings);
+  ThreadEvaluators evals([&] { return std::make_unique<Evaluators>(tape); });
+  std::atomic<std::uint64_t> count{0};
+  const Refiner refiner(grid, settings, count);
+  std::vector<std::pair<Index3, int>> roots;
+  const std::uint32_t s = grid.size(0);
+  for (std::uint32_t z = 0; z < (1u << grid.root_bits[2]); ++z) {
+    for (std::uint32_t y = 0; y < (1u << grid.root_bits[1]); ++y) {
+      for (std::uint32_t x = 0; x < (1u << grid.root_bits[0]); ++x) {
+        roots.push_back({{x * s, y * s, z * s}, 0});
+      }
+    }
+  }
+  ProgressPhase phase(exec.progress, "certified mesh", 1);
+  CertifiedMesh m;
+  CertifiedMeshStats& st = m.stats;
+  auto clock = std::chrono::steady_clock::now();
+  // Adds the time since the last call to `phase_seconds`.
+  auto lap = [&](double& phase_seconds) {
+    const auto now = std::chrono::steady_clock::now();
+    phase_seconds += std::chrono::duration<double>(now - clock).count();
+    clock = now;
+  };
+  std::vector<Leaf> leaves = refine_all(refiner, roots, evals, exec);
+  lap(st.seconds_refine);
+  Round r;
+  for (;;) {
+    if (phase.cancelled()) throw Error("certified mesh: cancelled");
+    r.table = build_vertices(grid, leaves, evals, exec);
+    lap(st.seconds_table);
+    r.outs = extract_all(grid, leaves, r.table, settings, evals, exec);
+    lap(st.seconds_extract);
+    ++st.rounds;
+    bool any = false;
+    std::vector<Leaf> next = split_failed(grid, refiner, leaves, r.outs, evals, exec, &any);
+    lap(st.seconds_refine);
+    if (!any) break;
+    leaves = std::move(next);
+  }
+  assemble(grid, leaves, r, m);
+  st.leaves = leaves.size();
+  st.roots = certified_root_cells(settings);
+  for (const auto& e : evals) st.interval_evaluations += e->evaluations;
+  lap(st.seconds_assemble);
+  phase.advance(1);
+  return m;
+}
+
+}  // namespace iaa

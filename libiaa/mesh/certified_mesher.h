@@ -1,0 +1,113 @@
+// The certified mesher: a triangle mesh isotopic to the surface f = 0 inside the cells it could
+// certify, and the list of cells it could not (docs/mesh.md, "Certified meshing").
+//
+// An adaptive octree over a grid of near-cubic root cells is refined until every leaf is either
+// *empty* (0 outside the interval value of f over the closed cell) or *certified*: the interval
+// dot product of two independent gradient enclosures over the cell excludes 0 (Plantinga and
+// Vegter's small normal variation), every face of the cell has a nowhere-vanishing tangential
+// gradient (or no zero), every edge has a nowhere-vanishing derivative along it (or no zero), every
+// face piece of its boundary (faces are cut where a finer neighbour touches them) shows at most
+// two sign changes, the crossings on its boundary close into at most one loop, and that loop's fan
+// around an inner point projects one-to-one along the loop's normal. Under these conditions the
+// surface meets each certified cell in one disc (or not at all), each face piece in one arc (or
+// not at all), and each edge piece at most once; the mesh has a vertex on each crossed edge piece,
+// a segment across each crossed face piece, and a fan over each loop, so each cell, face and edge
+// holds a piece of mesh homeomorphic to the surface's piece there, which gives an ambient isotopy
+// that maps every cell to itself.
+//
+// A leaf that reaches the depth limit without either certificate is *uncertified*: meshed by the
+// same rules as well as they go (never dropped) and returned, so that callers can report it.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/exec.h"
+#include "core/vec.h"
+#include "expr/tape.h"
+#include "mesh/triangle_soup.h"
+
+namespace iaa {
+
+/// What the certified mesher computes.
+struct CertifiedMeshSettings {
+  Box3 bounds;
+  /// Leaves that may hold surface are split at least this many times below the root cells, so
+  /// that the mesh resolves the geometry and not only the topology.
+  int min_depth = 3;
+  /// Leaves are split at most this many times below the root cells; a leaf that needs more is
+  /// uncertified.
+  int max_depth = 10;
+  /// Root cells per axis are powers of two chosen so that root cells are near cubes (edges within
+  /// a factor 2 of each other); at most this many per axis.
+  int max_roots_per_axis = 32;
+  /// Upper bound on the number of leaves; exceeding it is an error with a clear message.
+  std::uint64_t max_boxes = 20'000'000;
+  /// Regula falsi steps (Illinois) that place each vertex on its crossed edge piece.
+  int edge_steps = 24;
+  /// Newton steps that pull each fan's centre towards the surface (kept inside its cell).
+  int centre_steps = 3;
+  /// Also prove, for every certified cell, that f has no critical point on its faces (tangential
+  /// gradient) and is monotone along its edges, so that no closed curve or double crossing of the
+  /// surface can hide inside a face or an edge and each cell holds exactly the disc its loop
+  /// shows. Without it the closed curves and double crossings that corner signs cannot see are
+  /// pushed across by Plantinga and Vegter's argument (docs/mesh.md). Strict mode refines much
+  /// deeper where the surface is tangent to a grid plane.
+  bool strict = false;
+
+  /// Fine grid coordinates must fit 19 bits per axis: max_depth + log2(roots per axis) <= 19.
+  static constexpr int kGridBits = 19;
+  /// Throws SettingError naming the setting and its limits.
+  void validate() const;
+};
+
+/// A leaf box the mesher could not certify.
+struct UncertifiedCell {
+  Box3 box;
+  int depth = 0;  ///< splits below its root cell
+  /// Why: 1 no certificate at the depth limit, 2 a corner whose sign intervals could not decide.
+  int reason = 1;
+};
+
+/// Counts that describe the run; all are reported by `iaa mesh --report`.
+struct CertifiedMeshStats {
+  std::array<int, 3> roots{1, 1, 1};   ///< root cells per axis
+  std::uint64_t leaves = 0;            ///< all leaves, empty ones included
+  std::uint64_t empty_leaves = 0;      ///< 0 outside F(cell)
+  std::uint64_t certified_leaves = 0;  ///< certified, holding surface or not
+  std::uint64_t uncertified_leaves = 0;
+  std::uint64_t uncertain_corners = 0;  ///< corners whose interval value straddles 0
+  std::uint64_t open_chains = 0;        ///< crossings that did not close into loops (uncertified)
+  std::uint64_t rounds = 0;             ///< global rounds of splitting (faces, loops, fans)
+  std::uint64_t interval_evaluations = 0;  ///< of f and its gradient, over cells/faces/edges/points
+  int finest_depth = 0;                    ///< deepest leaf below its root
+  /// The largest diagonal of a certified leaf that holds mesh: the Hausdorff distance between
+  /// the mesh and the surface, both restricted to the certified leaves, is at most this.
+  double distance_bound = 0;
+  /// The same for uncertified leaves that hold mesh (0 when none).
+  double uncertified_distance_bound = 0;
+  /// Wall time of the phases: refinement (phase 1, and the refinement of split leaves), the table
+  /// of leaf corners and their signs, extraction (pieces, loops, fans), joining the mesh.
+  double seconds_refine = 0, seconds_table = 0, seconds_extract = 0, seconds_assemble = 0;
+};
+
+/// The mesh, its statistics, and the cells it could not certify.
+struct CertifiedMesh {
+  TriangleSoup soup;
+  CertifiedMeshStats stats;
+  std::vector<UncertifiedCell> uncertified;
+};
+
+/// Root cells per axis for these settings: powers of two that make the root cells near cubes.
+std::array<int, 3> certified_root_cells(const CertifiedMeshSettings& settings);
+
+/// The smallest min_depth whose cells have no edge longer than `edge` (at most max_depth).
+int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge);
+
+/// Meshes f = 0 in settings.bounds. The result is identical for any thread count. Throws
+/// SettingError on invalid settings or when settings.max_boxes leaves would be exceeded.
+CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,
+                             const Exec& exec = {});
+
+}  // namespace iaa

@@ -1,0 +1,25 @@
+// Loose boxes (any sizes, not an enclosure's grid) as a VTK unstructured grid of voxels: the
+// cells the certified mesher could not certify, written as a .vtu that iaa-viz shows over a mesh.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/vec.h"
+
+namespace iaa::viz {
+
+/// One box and the two numbers stored with it as cell arrays.
+struct LabelledBox {
+  Box3 box;
+  int depth = 0;   ///< cell array `depth`
+  int reason = 0;  ///< cell array `reason`
+};
+
+/// Writes the boxes to `path` as a compressed binary .vtu of VTK_VOXEL cells with cell arrays
+/// `depth` and `reason` and field data `expression` and `format` ("iaa-boxes 1"). Writes `path`
+/// directly: tools wrap this in write_atomically. Throws iaa::Error when VTK fails to write.
+void write_boxes_vtu(const std::string& path, const std::vector<LabelledBox>& boxes,
+                     const std::string& expression);
+
+}  // namespace iaa::viz
