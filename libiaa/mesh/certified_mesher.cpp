@@ -426,24 +426,24 @@ class Extractor {
       for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
       table_.prefetch(make_key(q));
     }
-    std::int8_t first = 0;
+    finer_ = false;
+    bool same = true;
     for (std::uint32_t k = 0; k < 8; ++k) {
-      const std::int8_t g = sign(
-          make_key({p[0] + (k & 1) * s, p[1] + ((k >> 1) & 1) * s, p[2] + ((k >> 2) & 1) * s}));
-      if (k == 0) first = g;
-      if (g != first) return false;
+      corner_keys_[k] =
+          make_key({p[0] + (k & 1) * s, p[1] + ((k >> 1) & 1) * s, p[2] + ((k >> 2) & 1) * s});
+      corner_signs_[k] = table_sign(corner_keys_[k]);
+      same = same && corner_signs_[k] == corner_signs_[0];
     }
-    if (s == 1) return true;
     // Face centres (one coordinate at 0 or s, the others at h) and edge midpoints (one at h).
-    for (std::uint32_t k = 0; k < 27; ++k) {
+    for (std::uint32_t k = 0; k < 27 && s > 1 && !finer_; ++k) {
       const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
       const int mids = (c[0] == 1) + (c[1] == 1) + (c[2] == 1);
       if (mids != 1 && mids != 2) continue;
       Index3 q;
       for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
-      if (table_.contains(make_key(q))) return false;
+      finer_ = table_.contains(make_key(q));
     }
-    return true;
+    return same && !finer_;
   }
 
   Key key_at(int a, std::uint32_t w, std::uint32_t u, std::uint32_t v) const {
@@ -464,7 +464,7 @@ class Extractor {
   void piece(int a, int side, std::uint32_t w, std::uint32_t u0, std::uint32_t v0,
              std::uint32_t s) {
     const std::uint32_t h = s / 2;
-    if (s > 1 && table_.contains(key_at(a, w, u0 + h, v0 + h))) {
+    if (s > 1 && finer_ && table_.contains(key_at(a, w, u0 + h, v0 + h))) {
       for (int k = 0; k < 4; ++k) piece(a, side, w, u0 + (k & 1) * h, v0 + (k >> 1) * h, h);
       return;
     }
@@ -488,13 +488,21 @@ class Extractor {
     if (len < 2) return;
     const std::array<std::uint32_t, 2> m = {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2};
     const Key km = key_at(a, w, m[0], m[1]);
-    if (!table_.contains(km)) return;
+    if (!finer_ || !table_.contains(km)) return;
     side_points(a, w, p, m, len / 2);
     cycle_.push_back(km);
     side_points(a, w, m, q, len / 2);
   }
 
+  // The sign at a cycle point: one of the leaf's corners (read once by quiet()) or another.
   std::int8_t sign(Key k) {
+    for (std::size_t i = 0; i < 8; ++i) {
+      if (corner_keys_[i] == k) return corner_signs_[i];
+    }
+    return table_sign(k);
+  }
+
+  std::int8_t table_sign(Key k) {
     const VertexTable::Slot* s = table_.find(k);
     if (!s) {  // cannot happen: every cycle point is a leaf corner
       out_.uncertain = true;
@@ -507,7 +515,8 @@ class Extractor {
   // The crossings of one piece, paired into segments (up crossing to down crossing).
   void pair_crossings(int a, std::uint32_t w, std::uint32_t u0, std::uint32_t v0, std::uint32_t s) {
     const std::size_t n = cycle_.size();
-    std::vector<std::pair<Key, bool>> xs;  // crossing id, up (- to +)
+    std::vector<std::pair<Key, bool>>& xs = piece_crossings_;  // crossing id, up (- to +)
+    xs.clear();
     for (std::size_t i = 0; i < n; ++i) {
       const Key p = cycle_[i], q = cycle_[(i + 1) % n];
       check_inner_edge(p, q);
@@ -610,55 +619,55 @@ class Extractor {
     return at((ta * fb - tb * fa) / (fb - fa));
   }
 
-  // Chains the segments into loops and fans each loop.
-  void loops() {
-    if (segments_.empty()) return;
-    std::vector<std::pair<Key, Vec3>> pos;
+  // Places the leaf's crossings (out_.crossings, in the order of crossings_).
+  void place_crossings() {
+    out_.crossings.clear();
     for (const Crossing& c : crossings_) {
       // Up to four leaves share an edge piece: each placement is kept for the leaves after it.
       auto it = placed_.find(c.id);
       if (it == placed_.end()) it = placed_.emplace(c.id, place(c)).first;
-      pos.emplace_back(c.id, it->second);
+      out_.crossings.emplace_back(c.id, it->second);
     }
-    out_.crossings = pos;
-    auto local = [&](Key id) {
-      for (std::size_t i = 0; i < pos.size(); ++i) {
-        if (pos[i].first == id) return std::uint32_t(i);
-      }
-      return std::uint32_t(0);
-    };
-    std::vector<bool> used(segments_.size(), false);
+  }
+
+  std::uint32_t local(Key id) const {
+    for (std::size_t i = 0; i < out_.crossings.size(); ++i) {
+      if (out_.crossings[i].first == id) return std::uint32_t(i);
+    }
+    return 0;
+  }
+
+  // Follows the segments from segment s0 into loop_ (local vertex numbers); false when the chain
+  // does not close.
+  bool chain(std::size_t s0) {
+    loop_.clear();
+    for (std::size_t s = s0;;) {
+      used_[s] = true;
+      loop_.push_back(local(segments_[s].first));
+      const Key next = segments_[s].second;
+      if (next == segments_[s0].first) return true;
+      std::size_t t = 0;
+      while (t < segments_.size() && (used_[t] || segments_[t].first != next)) ++t;
+      if (t == segments_.size()) return false;
+      s = t;
+    }
+  }
+
+  // Chains the segments into loops and fans each loop.
+  void loops() {
+    if (segments_.empty()) return;
+    place_crossings();
+    used_.assign(segments_.size(), 0);
     int n_loops = 0;
     for (std::size_t s0 = 0; s0 < segments_.size(); ++s0) {
-      if (used[s0]) continue;
-      std::vector<std::uint32_t> loop;
-      std::size_t s = s0;
-      bool closed = false;
-      while (!used[s]) {
-        used[s] = true;
-        loop.push_back(local(segments_[s].first));
-        const Key next = segments_[s].second;
-        if (next == segments_[s0].first) {
-          closed = true;
-          break;
-        }
-        std::size_t t = segments_.size();
-        for (std::size_t k = 0; k < segments_.size(); ++k) {
-          if (!used[k] && segments_[k].first == next) {
-            t = k;
-            break;
-          }
-        }
-        if (t == segments_.size()) break;
-        s = t;
-      }
-      if (!closed) {
+      if (used_[s0]) continue;
+      if (!chain(s0)) {
         ++out_.open_chains;
         out_.split = true;
         continue;
       }
       ++n_loops;
-      fan(loop);
+      fan(loop_);
     }
     if (n_loops > 1) out_.split = true;
   }
@@ -673,7 +682,8 @@ class Extractor {
       out_.triangles.push_back({loop[0], loop[2], loop[1]});
       return;
     }
-    std::vector<Vec3> p(m);
+    std::vector<Vec3>& p = points_;
+    p.resize(m);
     Vec3 mean{};
     for (std::size_t i = 0; i < m; ++i) {
       p[i] = out_.crossings[loop[i]].second;
@@ -747,6 +757,15 @@ class Extractor {
   std::vector<Crossing> crossings_;
   std::vector<std::pair<Key, Key>> segments_;
   std::unordered_map<Key, Vec3> placed_;  ///< crossings placed by this extractor (one range)
+  /// The leaf's corners and their signs, and whether a finer neighbour puts corners on its faces.
+  std::array<Key, 8> corner_keys_{};
+  std::array<std::int8_t, 8> corner_signs_{};
+  bool finer_ = false;
+  // Scratch space kept between leaves.
+  std::vector<std::pair<Key, bool>> piece_crossings_;
+  std::vector<std::uint32_t> loop_;
+  std::vector<std::uint8_t> used_;
+  std::vector<Vec3> points_;
 };
 
 Grid make_grid(const CertifiedMeshSettings& s) {
