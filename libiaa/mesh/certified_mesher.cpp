@@ -386,6 +386,7 @@ struct Crossing {
 struct CellOut {
   bool split = false;      ///< a global rule failed: split the leaf (or, at max depth, give up)
   bool uncertain = false;  ///< a corner's sign was not decided
+  bool blocked = false;    ///< a finer neighbour's piece or edge failed a rule
   std::uint64_t open_chains = 0;
   std::vector<std::pair<Key, Vec3>> crossings;  ///< local vertices 0..n-1
   std::vector<Vec3> centres;                    ///< local vertices n..
@@ -526,7 +527,9 @@ class Extractor {
     }
     if (xs.empty()) return;
     if (xs.size() > 2) {
-      out_.split = true;
+      // Splitting the leaf that owns the piece (the finer side) resolves it; a coarser leaf that
+      // only sees the piece waits for that and is uncertified if it never happens.
+      (s == size_ ? out_.split : out_.blocked) = true;
       // Best effort: the sign at the piece's centre says which side is connected.
       const Vec3 centre = grid_.point(key_point(key_at(a, w, u0 + s / 2, v0 + s / 2)));
       const Vec3 mid = s > 1 ? centre
@@ -562,7 +565,7 @@ class Extractor {
         for (int k = 0; k < 3; ++k) {
           if (ed.lo[k] > ed.hi[k]) std::swap(ed.lo[k], ed.hi[k]);
         }
-        if (!edge_ok(e_, ed, axis)) out_.split = true;
+        if (!edge_ok(e_, ed, axis)) out_.blocked = true;  // the finer neighbour's edge
         return;
       }
     }
@@ -883,7 +886,7 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
     }
     const CellOut& o = r.outs[i];
     const Box3 box = grid.box(l.at, grid.size(l.depth));
-    const bool certified = l.kind == Kind::kCertified && !o.split && !o.uncertain;
+    const bool certified = l.kind == Kind::kCertified && !o.split && !o.blocked && !o.uncertain;
     if (certified) {
       ++st.certified_leaves;
     } else {
