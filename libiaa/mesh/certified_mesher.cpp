@@ -17,6 +17,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -270,13 +271,10 @@ class Refiner {
   std::atomic<std::uint64_t>& count_;
 };
 
-/// Leaf corners, sorted, with the sign of f there: +1 (f > 0), -1 (f <= 0, which is how a corner
-/// on the surface counts: the mesh follows f = delta for small delta > 0), and whether the
+/// Leaf corners in a hash table, with the sign of f there: +1 (f > 0), -1 (f <= 0, which is how a
+/// corner on the surface counts: the mesh follows f = delta for small delta > 0), and whether the
 /// interval evaluation could not decide (taken as -1).
 struct VertexTable {
-  std::vector<Key> keys;
-  std::vector<std::int8_t> signs;
-  std::vector<std::uint8_t> uncertain;
   /// Open addressing: each slot holds a key (kNone: empty) with its sign and uncertainty, so
   /// that a lookup touches one cache line. Size a power of two.
   struct Slot {
@@ -288,20 +286,35 @@ struct VertexTable {
   std::vector<Slot> slots;
   std::uint64_t mask = 0;
   int shift = 60;
+  std::size_t count = 0;  ///< points in the table
 
   // Fibonacci hashing: the high bits of the product mix every bit of the key.
   std::uint64_t hash(Key k) const { return (k * 0x9E3779B97F4A7C15ull) >> shift; }
-  void build_hash() {
+  /// Room for `extra` more points at a load of at most one half (the table grows when needed).
+  void reserve(std::size_t extra) {
+    if (2 * (count + extra) <= slots.size()) return;
+    std::vector<Slot> old;
+    for (const Slot& s : slots) {
+      if (s.key != kNone) old.push_back(s);
+    }
+    resize(2 * (count + extra));
+    for (const Slot& s : old) put(s);
+  }
+  /// Inserts a point that is not in the table yet (after reserve()); returns its slot.
+  std::size_t put(const Slot& v) {
+    std::uint64_t h = hash(v.key) & mask;
+    while (slots[h].key != kNone) h = (h + 1) & mask;
+    slots[h] = v;
+    ++count;
+    return h;
+  }
+  void resize(std::size_t at_least) {
     std::uint64_t n = 16;
     shift = 60;
-    while (n < 2 * keys.size()) n *= 2, --shift;
+    while (n < at_least) n *= 2, --shift;
     mask = n - 1;
     slots.assign(n, Slot{kNone, 0, 0});
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-      std::uint64_t h = hash(keys[i]) & mask;
-      while (slots[h].key != kNone) h = (h + 1) & mask;
-      slots[h] = {keys[i], signs[i], uncertain[i]};
-    }
+    count = 0;
   }
   /// The slot of k, or null.
   const Slot* find(Key k) const {
@@ -326,10 +339,15 @@ std::int8_t point_sign(Evaluators& e, const Vec3& p) {
   return 0;
 }
 
-VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
-                           ThreadEvaluators& evals, const Exec& exec) {
-  // Each corner as (key << 2 | code): 0 proved f <= 0, 1 proved f > 0 (from an empty leaf),
-  // 2 to evaluate (a corner of a leaf that may hold surface), 3 nothing known.
+/// The corners of `leaves`, sorted and unique, each with what is known of its sign: -1 or +1
+/// proved by an empty leaf, or 3: to evaluate (a corner of a leaf that may hold surface, or one
+/// that only empty leaves where f may be undefined touch: a finer neighbour's corner on a face
+/// may be one, and its sign is then needed).
+std::vector<std::pair<Key, std::int8_t>> corners_of(const Grid& grid,
+                                                    const std::vector<Leaf>& leaves,
+                                                    const Exec& exec) {
+  // Each corner as (key << 2 | code): 0 proved f <= 0, 1 proved f > 0, 2 to evaluate, 3 nothing
+  // known; sorted, so that the smallest code of a key comes first and decides.
   std::vector<std::uint64_t> all(leaves.size() * 8);
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096), [&](auto r) {
@@ -347,32 +365,59 @@ VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
     });
     tbb::parallel_sort(all.begin(), all.end());
   });
-  VertexTable t;
+  std::vector<std::pair<Key, std::int8_t>> out;
   for (std::size_t i = 0; i < all.size();) {
     const Key key = all[i] >> 2;
-    // The smallest code of the key decides: a proved sign before "evaluate".
     const std::uint64_t code = all[i] & 3;
     while (i < all.size() && (all[i] >> 2) == key) ++i;
-    t.keys.push_back(key);
-    // 3: to evaluate, also a corner that only empty leaves where f may be undefined touch: a
-    // finer neighbour's corner on a leaf's face may be one, and its sign is then needed.
-    t.signs.push_back(code == 0 ? -1 : (code == 1 ? 1 : 3));
+    out.emplace_back(key, std::int8_t(code == 0 ? -1 : (code == 1 ? 1 : 3)));
   }
-  t.uncertain.assign(t.keys.size(), 0);
+  return out;
+}
+
+/// Evaluates the signs of the table's slots listed in `todo` (sign 3), in parallel.
+void evaluate_signs(VertexTable& t, const std::vector<std::size_t>& todo, const Grid& grid,
+                    ThreadEvaluators& evals, const Exec& exec) {
   exec.run([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.keys.size(), 1024), [&](auto r) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1024), [&](auto r) {
       RoundingScope scope;
       auto& ep = evals.local();
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        if (t.signs[i] != 3) continue;
-        const std::int8_t s = point_sign(*ep, grid.point(key_point(t.keys[i])));
-        t.signs[i] = s == 0 ? -1 : s;
-        t.uncertain[i] = s == 0;
+        VertexTable::Slot& v = t.slots[todo[i]];
+        const std::int8_t s = point_sign(*ep, grid.point(key_point(v.key)));
+        v.sign = s == 0 ? -1 : s;
+        v.uncertain = s == 0;
       }
     });
   });
-  t.build_hash();
+}
+
+VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
+                           ThreadEvaluators& evals, const Exec& exec) {
+  VertexTable t;
+  const std::vector<std::pair<Key, std::int8_t>> corners = corners_of(grid, leaves, exec);
+  t.resize(2 * corners.size());
+  std::vector<std::size_t> todo;
+  for (const auto& [key, sign] : corners) {
+    const std::size_t slot = t.put({key, sign, 0});
+    if (sign == 3) todo.push_back(slot);
+  }
+  evaluate_signs(t, todo, grid, evals, exec);
   return t;
+}
+
+/// Adds the corners of new leaves (the refinement of split ones) to the table.
+void add_vertices(VertexTable& t, const Grid& grid, const std::vector<Leaf>& fresh,
+                  ThreadEvaluators& evals, const Exec& exec) {
+  const std::vector<std::pair<Key, std::int8_t>> corners = corners_of(grid, fresh, exec);
+  t.reserve(corners.size());
+  std::vector<std::size_t> todo;
+  for (const auto& [key, sign] : corners) {
+    if (t.contains(key)) continue;
+    const std::size_t slot = t.put({key, sign, 0});
+    if (sign == 3) todo.push_back(slot);
+  }
+  evaluate_signs(t, todo, grid, evals, exec);
 }
 
 /// A mesh vertex on an edge piece: its id (lower end's key and axis), and its ends.
@@ -806,27 +851,34 @@ struct Round {
   std::vector<CellOut> outs;  ///< per leaf (empty for empty leaves)
 };
 
-/// Extraction of every non-empty leaf (CellOut per leaf, empty for empty leaves).
-std::vector<CellOut> extract_all(const Grid& grid, const std::vector<Leaf>& leaves,
-                                 const VertexTable& table, const CertifiedMeshSettings& s,
-                                 ThreadEvaluators& evals, const Exec& exec) {
-  std::vector<CellOut> outs(leaves.size());
+/// Extraction of every non-empty leaf, or of those `todo` marks (CellOut per leaf, empty for
+/// empty leaves).
+void extract_all(const Grid& grid, const std::vector<Leaf>& leaves, const VertexTable& table,
+                 const CertifiedMeshSettings& s, ThreadEvaluators& evals, const Exec& exec,
+                 std::vector<CellOut>& outs, const std::vector<char>* todo = nullptr) {
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](auto range) {
       RoundingScope scope;
       Extractor x(grid, table, s, *evals.local());
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
-        if (leaves[i].kind != Kind::kEmpty) outs[i] = x.run(leaves[i]);
+        if (todo && !(*todo)[i]) continue;
+        outs[i] = leaves[i].kind != Kind::kEmpty ? x.run(leaves[i]) : CellOut{};
       }
     });
   });
-  return outs;
 }
 
-/// The leaves with the failing certified ones replaced by their refinement.
-std::vector<Leaf> split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& leaves,
-                               const std::vector<CellOut>& outs, ThreadEvaluators& evals,
-                               const Exec& exec, bool* any) {
+/// The leaves after a round: the failing certified ones replaced by their refinement.
+struct Split {
+  std::vector<Leaf> leaves;
+  std::vector<std::int64_t> origin;  ///< per leaf: its index before the split, or -1 if new
+  std::vector<Leaf> fresh;           ///< the new leaves
+  std::vector<Leaf> split;           ///< the leaves that were split
+};
+
+Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& leaves,
+                   const std::vector<CellOut>& outs, ThreadEvaluators& evals, const Exec& exec) {
+  Split out;
   std::vector<std::pair<Index3, int>> cells;
   std::vector<std::size_t> where;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
@@ -839,30 +891,93 @@ std::vector<Leaf> split_failed(const Grid& grid, const Refiner& r, const std::ve
            l.depth + 1});
     }
     where.push_back(i);
+    out.split.push_back(l);
   }
-  *any = !where.empty();
-  if (!*any) return leaves;
-  const std::vector<Leaf> fresh = refine_all(r, cells, evals, exec);
-  // Leaves of the 8 children of where[j], in order: split `fresh` by parent again.
-  std::vector<Leaf> out;
-  out.reserve(leaves.size() + fresh.size());
+  if (where.empty()) return out;
+  out.fresh = refine_all(r, cells, evals, exec);
+  // The new leaves of where[j] follow each other in `fresh`, in the order of `where`.
+  out.leaves.reserve(leaves.size() + out.fresh.size());
   std::size_t next = 0, w = 0;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     if (w < where.size() && where[w] == i) {
       const Leaf& p = leaves[i];
       const std::uint32_t s = grid.size(p.depth);
-      while (next < fresh.size() && fresh[next].at[0] >= p.at[0] &&
-             fresh[next].at[0] < p.at[0] + s && fresh[next].at[1] >= p.at[1] &&
-             fresh[next].at[1] < p.at[1] + s && fresh[next].at[2] >= p.at[2] &&
-             fresh[next].at[2] < p.at[2] + s) {
-        out.push_back(fresh[next++]);
+      auto inside = [&](const Leaf& f) {
+        for (std::size_t a = 0; a < 3; ++a) {
+          if (f.at[a] < p.at[a] || f.at[a] >= p.at[a] + s) return false;
+        }
+        return true;
+      };
+      while (next < out.fresh.size() && inside(out.fresh[next])) {
+        out.leaves.push_back(out.fresh[next++]);
+        out.origin.push_back(-1);
       }
       ++w;
     } else {
-      out.push_back(leaves[i]);
+      out.leaves.push_back(leaves[i]);
+      out.origin.push_back(std::int64_t(i));
     }
   }
   return out;
+}
+
+/// Marks the leaves that touch (share a face, an edge or a corner with) one of the `split`
+/// leaves: their face pieces may have changed. Found through a map of the leaves by depth and
+/// position: for each of the 26 neighbour cells of a split leaf, the coarser leaf that holds it,
+/// or the finer leaves inside it that touch the split leaf.
+std::vector<char> touching(const Grid& grid, const std::vector<Leaf>& leaves,
+                           const std::vector<Leaf>& split) {
+  auto id = [](int depth, const Index3& at) { return (Key(depth) << 60) | make_key(at); };
+  std::unordered_map<Key, std::size_t> index;
+  index.reserve(leaves.size());
+  for (std::size_t i = 0; i < leaves.size(); ++i)
+    index.emplace(id(leaves[i].depth, leaves[i].at), i);
+  std::vector<char> mark(leaves.size(), 0);
+  std::array<std::int64_t, 3> extent;
+  for (std::size_t a = 0; a < 3; ++a) extent[a] = std::int64_t(grid.size(0)) << grid.root_bits[a];
+  for (const Leaf& sl : split) {
+    const std::int64_t s = grid.size(sl.depth);
+    // Leaves at or below `at` (size `size`) that touch the split leaf's closed box.
+    std::function<void(int, const Index3&)> collect = [&](int depth, const Index3& at) {
+      const std::int64_t size = grid.size(depth);
+      for (std::size_t a = 0; a < 3; ++a) {
+        if (at[a] > sl.at[a] + s || at[a] + size < std::int64_t(sl.at[a])) return;
+      }
+      const auto it = index.find(id(depth, at));
+      if (it != index.end()) {
+        mark[it->second] = 1;
+        return;
+      }
+      if (depth == grid.max_depth) return;
+      const std::uint32_t h = std::uint32_t(size / 2);
+      for (std::uint32_t k = 0; k < 8; ++k) {
+        collect(depth + 1,
+                {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h});
+      }
+    };
+    for (int k = 0; k < 27; ++k) {
+      if (k == 13) continue;  // the split leaf itself
+      Index3 q;
+      bool inside = true;
+      for (std::size_t a = 0; a < 3; ++a) {
+        const int d = (k / (a == 0 ? 1 : (a == 1 ? 3 : 9))) % 3 - 1;
+        const std::int64_t c = std::int64_t(sl.at[a]) + d * s;
+        inside = inside && c >= 0 && c < extent[a];
+        q[a] = std::uint32_t(std::max<std::int64_t>(c, 0));
+      }
+      if (!inside) continue;
+      // A coarser leaf holding the neighbour cell, else the finer ones inside it.
+      bool found = false;
+      for (int depth = sl.depth; depth >= 0 && !found; --depth) {
+        const std::uint32_t size = grid.size(depth);
+        const Index3 anc = {q[0] / size * size, q[1] / size * size, q[2] / size * size};
+        const auto it = index.find(id(depth, anc));
+        if (it != index.end()) mark[it->second] = 1, found = true;
+      }
+      if (!found) collect(sl.depth, q);
+    }
+  }
+  return mark;
 }
 
 /// Joins the leaves' pieces into one mesh (crossings welded by id) and fills the statistics.
@@ -911,7 +1026,8 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
     }
     for (const auto& t : o.triangles) soup.triangles.push_back({map[t[0]], map[t[1]], map[t[2]]});
   }
-  for (const auto& t : r.table.uncertain) st.uncertain_corners += t;
+  for (const auto& v : r.table.slots)
+    st.uncertain_corners += v.key != VertexTable::kNone && v.uncertain;
 }
 
 }  // namespace
@@ -960,19 +1076,33 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   };
   std::vector<Leaf> leaves = refine_all(refiner, roots, evals, exec);
   lap(st.seconds_refine);
+  // Round 1 extracts every leaf; later rounds only the new leaves and those touching a split one.
   Round r;
+  r.table = build_vertices(grid, leaves, evals, exec);
+  lap(st.seconds_table);
+  r.outs.resize(leaves.size());
+  extract_all(grid, leaves, r.table, settings, evals, exec, r.outs);
+  lap(st.seconds_extract);
   for (;;) {
     if (phase.cancelled()) throw Error("certified mesh: cancelled");
-    r.table = build_vertices(grid, leaves, evals, exec);
-    lap(st.seconds_table);
-    r.outs = extract_all(grid, leaves, r.table, settings, evals, exec);
-    lap(st.seconds_extract);
     ++st.rounds;
-    bool any = false;
-    std::vector<Leaf> next = split_failed(grid, refiner, leaves, r.outs, evals, exec, &any);
+    Split sp = split_failed(grid, refiner, leaves, r.outs, evals, exec);
     lap(st.seconds_refine);
-    if (!any) break;
-    leaves = std::move(next);
+    if (sp.split.empty()) break;
+    add_vertices(r.table, grid, sp.fresh, evals, exec);
+    lap(st.seconds_table);
+    std::vector<char> todo = touching(grid, sp.leaves, sp.split);
+    std::vector<CellOut> outs(sp.leaves.size());
+    for (std::size_t i = 0; i < sp.leaves.size(); ++i) {
+      if (sp.origin[i] < 0)
+        todo[i] = 1;
+      else if (!todo[i])
+        outs[i] = std::move(r.outs[std::size_t(sp.origin[i])]);
+    }
+    leaves = std::move(sp.leaves);
+    extract_all(grid, leaves, r.table, settings, evals, exec, outs, &todo);
+    r.outs = std::move(outs);
+    lap(st.seconds_extract);
   }
   assemble(grid, leaves, r, m);
   st.leaves = leaves.size();
