@@ -17,7 +17,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <functional>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -921,62 +920,91 @@ Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& 
   return out;
 }
 
-/// Marks the leaves that touch (share a face, an edge or a corner with) one of the `split`
-/// leaves: their face pieces may have changed. Found through a map of the leaves by depth and
-/// position: for each of the 26 neighbour cells of a split leaf, the coarser leaf that holds it,
-/// or the finer leaves inside it that touch the split leaf.
-std::vector<char> touching(const Grid& grid, const std::vector<Leaf>& leaves,
-                           const std::vector<Leaf>& split) {
-  auto id = [](int depth, const Index3& at) { return (Key(depth) << 60) | make_key(at); };
-  std::unordered_map<Key, std::size_t> index;
-  index.reserve(leaves.size());
-  for (std::size_t i = 0; i < leaves.size(); ++i)
-    index.emplace(id(leaves[i].depth, leaves[i].at), i);
-  std::vector<char> mark(leaves.size(), 0);
-  std::array<std::int64_t, 3> extent;
-  for (std::size_t a = 0; a < 3; ++a) extent[a] = std::int64_t(grid.size(0)) << grid.root_bits[a];
-  for (const Leaf& sl : split) {
-    const std::int64_t s = grid.size(sl.depth);
-    // Leaves at or below `at` (size `size`) that touch the split leaf's closed box.
-    std::function<void(int, const Index3&)> collect = [&](int depth, const Index3& at) {
-      const std::int64_t size = grid.size(depth);
-      for (std::size_t a = 0; a < 3; ++a) {
-        if (at[a] > sl.at[a] + s || at[a] + size < std::int64_t(sl.at[a])) return;
-      }
-      const auto it = index.find(id(depth, at));
-      if (it != index.end()) {
-        mark[it->second] = 1;
-        return;
-      }
-      if (depth == grid.max_depth) return;
-      const std::uint32_t h = std::uint32_t(size / 2);
-      for (std::uint32_t k = 0; k < 8; ++k) {
-        collect(depth + 1,
-                {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h});
-      }
-    };
+/// Finds the leaves that touch (share a face, an edge or a corner with) a given leaf, through a
+/// map of the leaves by depth and position: for each of the leaf's 26 neighbour cells of its own
+/// size, the coarser leaf that holds it, or the finer leaves inside it that touch the leaf.
+class Neighbours {
+ public:
+  Neighbours(const Grid& grid, const std::vector<Leaf>& leaves) : grid_(grid) {
+    index_.reserve(leaves.size());
+    for (std::size_t i = 0; i < leaves.size(); ++i)
+      index_.emplace(id(leaves[i].depth, leaves[i].at), i);
+    for (std::size_t a = 0; a < 3; ++a)
+      extent_[a] = std::int64_t(grid.size(0)) << grid.root_bits[a];
+  }
+
+  /// Sets mark[i] for every leaf i that touches `leaf`.
+  void mark_around(const Leaf& leaf, std::vector<char>& mark) {
+    leaf_ = leaf;
+    size_ = grid_.size(leaf.depth);
+    mark_ = &mark;
     for (int k = 0; k < 27; ++k) {
-      if (k == 13) continue;  // the split leaf itself
       Index3 q;
-      bool inside = true;
-      for (std::size_t a = 0; a < 3; ++a) {
-        const int d = (k / (a == 0 ? 1 : (a == 1 ? 3 : 9))) % 3 - 1;
-        const std::int64_t c = std::int64_t(sl.at[a]) + d * s;
-        inside = inside && c >= 0 && c < extent[a];
-        q[a] = std::uint32_t(std::max<std::int64_t>(c, 0));
-      }
-      if (!inside) continue;
-      // A coarser leaf holding the neighbour cell, else the finer ones inside it.
-      bool found = false;
-      for (int depth = sl.depth; depth >= 0 && !found; --depth) {
-        const std::uint32_t size = grid.size(depth);
-        const Index3 anc = {q[0] / size * size, q[1] / size * size, q[2] / size * size};
-        const auto it = index.find(id(depth, anc));
-        if (it != index.end()) mark[it->second] = 1, found = true;
-      }
-      if (!found) collect(sl.depth, q);
+      if (k != 13 && neighbour_cell(k, q) && !coarser(q)) collect(leaf.depth, q);
     }
   }
+
+ private:
+  static Key id(int depth, const Index3& at) { return (Key(depth) << 60) | make_key(at); }
+
+  // The corner of neighbour cell k (offsets -1, 0, 1 per axis, x fastest); false outside the grid.
+  bool neighbour_cell(int k, Index3& q) const {
+    for (std::size_t a = 0; a < 3; ++a) {
+      const int d = (k / (a == 0 ? 1 : (a == 1 ? 3 : 9))) % 3 - 1;
+      const std::int64_t c = std::int64_t(leaf_.at[a]) + d * size_;
+      if (c < 0 || c >= extent_[a]) return false;
+      q[a] = std::uint32_t(c);
+    }
+    return true;
+  }
+
+  // Marks the leaf of the leaf's depth or coarser that holds the cell at q, if there is one.
+  bool coarser(const Index3& q) {
+    for (int depth = leaf_.depth; depth >= 0; --depth) {
+      const std::uint32_t size = grid_.size(depth);
+      const auto it =
+          index_.find(id(depth, {q[0] / size * size, q[1] / size * size, q[2] / size * size}));
+      if (it != index_.end()) {
+        (*mark_)[it->second] = 1;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Marks the leaves at or inside the cell (depth, at) that touch the leaf's closed box.
+  void collect(int depth, const Index3& at) {
+    const std::int64_t size = grid_.size(depth);
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (at[a] > leaf_.at[a] + size_ || at[a] + size < std::int64_t(leaf_.at[a])) return;
+    }
+    const auto it = index_.find(id(depth, at));
+    if (it != index_.end()) {
+      (*mark_)[it->second] = 1;
+      return;
+    }
+    if (depth == grid_.max_depth) return;
+    const std::uint32_t h = std::uint32_t(size / 2);
+    for (std::uint32_t k = 0; k < 8; ++k) {
+      collect(depth + 1,
+              {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h});
+    }
+  }
+
+  const Grid& grid_;
+  std::unordered_map<Key, std::size_t> index_;
+  std::array<std::int64_t, 3> extent_{};
+  Leaf leaf_{};
+  std::int64_t size_ = 1;
+  std::vector<char>* mark_ = nullptr;
+};
+
+/// Marks the leaves that touch one of the `split` leaves: their face pieces may have changed.
+std::vector<char> touching(const Grid& grid, const std::vector<Leaf>& leaves,
+                           const std::vector<Leaf>& split) {
+  std::vector<char> mark(leaves.size(), 0);
+  Neighbours n(grid, leaves);
+  for (const Leaf& l : split) n.mark_around(l, mark);
   return mark;
 }
 
