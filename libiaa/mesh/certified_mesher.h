@@ -2,18 +2,19 @@
 // certify, and the list of cells it could not (docs/mesh.md, "Certified meshing").
 //
 // An adaptive octree over a grid of near-cubic root cells is refined until every leaf is either
-// *empty* (0 outside the interval value of f over the closed cell) or *certified*: the interval
-// dot product of two independent gradient enclosures over the cell excludes 0 (Plantinga and
-// Vegter's small normal variation), every face of the cell has a nowhere-vanishing tangential
-// gradient (or no zero), every edge has a nowhere-vanishing derivative along it (or no zero), every
-// face piece of its boundary (faces are cut where a finer neighbour touches them) shows at most
-// two sign changes, the crossings on its boundary close into at most one loop, and that loop's fan
-// around an inner point projects one-to-one along the loop's normal. Under these conditions the
-// surface meets each certified cell in one disc (or not at all), each face piece in one arc (or
-// not at all), and each edge piece at most once; the mesh has a vertex on each crossed edge piece,
-// a segment across each crossed face piece, and a fan over each loop, so each cell, face and edge
-// holds a piece of mesh homeomorphic to the surface's piece there, which gives an ambient isotopy
-// that maps every cell to itself.
+// *empty* (0 outside the interval value of f over the closed cell, natural or mean-value form) or
+// *certified*: f is strictly monotone along one fixed direction over the cell (Plantinga and
+// Vegter's test, 0 outside the dot product of two independent gradient enclosures, or 0 outside
+// d.G for a fixed direction d), every face piece of its boundary (faces are cut where a finer
+// neighbour touches them) shows at most two sign changes, the crossings on its boundary close
+// into at most one loop, and that loop's fan around an inner point projects one-to-one along the
+// loop's normal. The surface then meets each certified cell in one disc (or not at all) and the
+// mesh has a vertex on each crossed edge piece, a segment across each crossed face piece and a
+// fan over each loop. Closed curves of the surface inside a face, and double crossings of an
+// edge, which corner signs cannot see, are either excluded by proof (`strict`: no critical point
+// of f on any face, f monotone on every edge), which gives an ambient isotopy mapping every cell
+// to itself, or pushed across by Plantinga and Vegter's argument (the default). docs/mesh.md
+// states the rules and the argument.
 //
 // A leaf that reaches the depth limit without either certificate is *uncertified*: meshed by the
 // same rules as well as they go (never dropped) and returned, so that callers can report it.
