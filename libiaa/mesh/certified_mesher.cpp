@@ -1,11 +1,12 @@
 // The certified mesher (certified_mesher.h; the argument is in docs/mesh.md).
 //
 // Phases: (1) each root cell is refined on its own until its leaves are empty or pass the local
-// certificate (gradient cone of the cell, tangential gradient of its 6 faces, derivative along its
-// 12 edges); (2) all leaf corners go into one sorted table with their signs; each non-empty leaf
-// cuts its faces into the pieces its neighbours make, pairs the crossings of each piece, chains
-// them into loops and fans each loop; a leaf whose pieces, loops or fan fail the global rules is
-// split and phase (1) runs on its children. (2) repeats until no leaf is split.
+// certificate (f monotone along a direction; in strict mode also the tangential gradient of its 6
+// faces and the derivative along its 12 edges); (2) all leaf corners go into one hash table with
+// their signs; each non-empty leaf cuts its faces into the pieces its neighbours make, pairs the
+// crossings of each piece, chains them into loops and fans each loop; a leaf whose pieces, loops
+// or fan fail the global rules is split and phase (1) runs on its children. (2) repeats, for the
+// new leaves and the leaves touching them only, until no leaf is split.
 #include "mesh/certified_mesher.h"
 
 #include <tbb/enumerable_thread_specific.h>
