@@ -1010,7 +1010,8 @@ std::vector<char> touching(const Grid& grid, const std::vector<Leaf>& leaves,
 }
 
 /// Joins the leaves' pieces into one mesh (crossings welded by id) and fills the statistics.
-void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r, CertifiedMesh& m) {
+void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r, bool strict,
+              CertifiedMesh& m) {
   std::vector<std::pair<Key, Vec3>> all;
   for (const CellOut& o : r.outs) all.insert(all.end(), o.crossings.begin(), o.crossings.end());
   std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -1021,6 +1022,7 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
   for (const auto& c : all) soup.vertices.push_back(c.second);
   CertifiedMeshStats& st = m.stats;
   RoundingScope scope;
+  double certified_diagonal = 0;  // over certified leaves that may hold surface
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     const Leaf& l = leaves[i];
     st.finest_depth = std::max(st.finest_depth, int(l.depth));
@@ -1038,10 +1040,14 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
       m.uncertified.push_back({box, int(l.depth), o.uncertain ? 2 : 1});
     }
     st.open_chains += o.open_chains;
-    if (o.triangles.empty()) continue;
     const Vec3 d = box.size();
-    double& bound = certified ? st.distance_bound : st.uncertified_distance_bound;
-    bound = std::fmax(bound, std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z));
+    const double diagonal = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    if (!certified) st.uncertified_diagonal = std::fmax(st.uncertified_diagonal, diagonal);
+    if (certified) certified_diagonal = std::fmax(certified_diagonal, diagonal);
+    if (certified && !o.triangles.empty()) {
+      st.mesh_to_surface = std::fmax(st.mesh_to_surface, diagonal);
+    }
+    if (o.triangles.empty()) continue;
     std::vector<std::uint32_t> map(o.crossings.size() + o.centres.size());
     for (std::size_t k = 0; k < o.crossings.size(); ++k) {
       const auto it =
@@ -1057,6 +1063,7 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
   }
   for (const auto& v : r.table.slots)
     st.uncertain_corners += v.key != VertexTable::kNone && v.uncertain;
+  st.surface_to_mesh = strict ? st.mesh_to_surface : certified_diagonal + st.mesh_to_surface;
 }
 
 }  // namespace
@@ -1133,7 +1140,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
     r.outs = std::move(outs);
     lap(st.seconds_extract);
   }
-  assemble(grid, leaves, r, m);
+  assemble(grid, leaves, r, settings.strict, m);
   st.leaves = leaves.size();
   st.roots = certified_root_cells(settings);
   for (const auto& e : evals) st.interval_evaluations += e->evaluations;

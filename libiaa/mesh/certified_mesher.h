@@ -83,11 +83,19 @@ struct CertifiedMeshStats {
   std::uint64_t rounds = 0;             ///< global rounds of splitting (faces, loops, fans)
   std::uint64_t interval_evaluations = 0;  ///< of f and its gradient, over cells/faces/edges/points
   int finest_depth = 0;                    ///< deepest leaf below its root
-  /// The largest diagonal of a certified leaf that holds mesh: the Hausdorff distance between
-  /// the mesh and the surface, both restricted to the certified leaves, is at most this.
-  double distance_bound = 0;
-  /// The same for uncertified leaves that hold mesh (0 when none).
-  double uncertified_distance_bound = 0;
+  /// Within the certified leaves, every mesh point lies at most this far from the surface: the
+  /// largest diagonal of a certified leaf that holds mesh (its triangles stay in the leaf, and a
+  /// leaf with a loop holds surface).
+  double mesh_to_surface = 0;
+  /// Within the certified leaves, every surface point lies at most this far from the mesh. With
+  /// `strict`, a certified leaf without a loop holds no surface, so it equals mesh_to_surface;
+  /// by default a cap of the surface pushed across a face may lie in a leaf without mesh next to
+  /// the leaf whose mesh stands for it: the largest diagonal of a certified leaf that may hold
+  /// surface plus mesh_to_surface.
+  double surface_to_mesh = 0;
+  /// The largest diagonal of an uncertified leaf (0 when none): there the mesh may also miss or
+  /// add pieces.
+  double uncertified_diagonal = 0;
   /// Wall time of the phases: refinement (phase 1, and the refinement of split leaves), the table
   /// of leaf corners and their signs, extraction (pieces, loops, fans), joining the mesh.
   double seconds_refine = 0, seconds_table = 0, seconds_extract = 0, seconds_assemble = 0;
