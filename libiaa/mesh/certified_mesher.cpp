@@ -1,11 +1,12 @@
 // The certified mesher (certified_mesher.h; the argument is in docs/mesh.md).
 //
 // Phases: (1) each root cell is refined on its own until its leaves are empty or pass the local
-// certificate (gradient cone of the cell, tangential gradient of its 6 faces, derivative along its
-// 12 edges); (2) all leaf corners go into one sorted table with their signs; each non-empty leaf
-// cuts its faces into the pieces its neighbours make, pairs the crossings of each piece, chains
-// them into loops and fans each loop; a leaf whose pieces, loops or fan fail the global rules is
-// split and phase (1) runs on its children. (2) repeats until no leaf is split.
+// certificate (f monotone along a direction; in strict mode also the tangential gradient of its 6
+// faces and the derivative along its 12 edges); (2) all leaf corners go into one hash table with
+// their signs; each non-empty leaf cuts its faces into the pieces its neighbours make, pairs the
+// crossings of each piece, chains them into loops and fans each loop; a leaf whose pieces, loops
+// or fan fail the global rules is split and phase (1) runs on its children. (2) repeats, for the
+// new leaves and the leaves touching them only, until no leaf is split.
 #include "mesh/certified_mesher.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -270,13 +271,10 @@ class Refiner {
   std::atomic<std::uint64_t>& count_;
 };
 
-/// Leaf corners, sorted, with the sign of f there: +1 (f > 0), -1 (f <= 0, which is how a corner
-/// on the surface counts: the mesh follows f = delta for small delta > 0), and whether the
+/// Leaf corners in a hash table, with the sign of f there: +1 (f > 0), -1 (f <= 0, which is how a
+/// corner on the surface counts: the mesh follows f = delta for small delta > 0), and whether the
 /// interval evaluation could not decide (taken as -1).
 struct VertexTable {
-  std::vector<Key> keys;
-  std::vector<std::int8_t> signs;
-  std::vector<std::uint8_t> uncertain;
   /// Open addressing: each slot holds a key (kNone: empty) with its sign and uncertainty, so
   /// that a lookup touches one cache line. Size a power of two.
   struct Slot {
@@ -288,20 +286,35 @@ struct VertexTable {
   std::vector<Slot> slots;
   std::uint64_t mask = 0;
   int shift = 60;
+  std::size_t count = 0;  ///< points in the table
 
   // Fibonacci hashing: the high bits of the product mix every bit of the key.
   std::uint64_t hash(Key k) const { return (k * 0x9E3779B97F4A7C15ull) >> shift; }
-  void build_hash() {
+  /// Room for `extra` more points at a load of at most one half (the table grows when needed).
+  void reserve(std::size_t extra) {
+    if (2 * (count + extra) <= slots.size()) return;
+    std::vector<Slot> old;
+    for (const Slot& s : slots) {
+      if (s.key != kNone) old.push_back(s);
+    }
+    resize(2 * (count + extra));
+    for (const Slot& s : old) put(s);
+  }
+  /// Inserts a point that is not in the table yet (after reserve()); returns its slot.
+  std::size_t put(const Slot& v) {
+    std::uint64_t h = hash(v.key) & mask;
+    while (slots[h].key != kNone) h = (h + 1) & mask;
+    slots[h] = v;
+    ++count;
+    return h;
+  }
+  void resize(std::size_t at_least) {
     std::uint64_t n = 16;
     shift = 60;
-    while (n < 2 * keys.size()) n *= 2, --shift;
+    while (n < at_least) n *= 2, --shift;
     mask = n - 1;
     slots.assign(n, Slot{kNone, 0, 0});
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-      std::uint64_t h = hash(keys[i]) & mask;
-      while (slots[h].key != kNone) h = (h + 1) & mask;
-      slots[h] = {keys[i], signs[i], uncertain[i]};
-    }
+    count = 0;
   }
   /// The slot of k, or null.
   const Slot* find(Key k) const {
@@ -326,10 +339,15 @@ std::int8_t point_sign(Evaluators& e, const Vec3& p) {
   return 0;
 }
 
-VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
-                           ThreadEvaluators& evals, const Exec& exec) {
-  // Each corner as (key << 2 | code): 0 proved f <= 0, 1 proved f > 0 (from an empty leaf),
-  // 2 to evaluate (a corner of a leaf that may hold surface), 3 nothing known.
+/// The corners of `leaves`, sorted and unique, each with what is known of its sign: -1 or +1
+/// proved by an empty leaf, or 3: to evaluate (a corner of a leaf that may hold surface, or one
+/// that only empty leaves where f may be undefined touch: a finer neighbour's corner on a face
+/// may be one, and its sign is then needed).
+std::vector<std::pair<Key, std::int8_t>> corners_of(const Grid& grid,
+                                                    const std::vector<Leaf>& leaves,
+                                                    const Exec& exec) {
+  // Each corner as (key << 2 | code): 0 proved f <= 0, 1 proved f > 0, 2 to evaluate, 3 nothing
+  // known; sorted, so that the smallest code of a key comes first and decides.
   std::vector<std::uint64_t> all(leaves.size() * 8);
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096), [&](auto r) {
@@ -347,32 +365,59 @@ VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
     });
     tbb::parallel_sort(all.begin(), all.end());
   });
-  VertexTable t;
+  std::vector<std::pair<Key, std::int8_t>> out;
   for (std::size_t i = 0; i < all.size();) {
     const Key key = all[i] >> 2;
-    // The smallest code of the key decides: a proved sign before "evaluate".
     const std::uint64_t code = all[i] & 3;
     while (i < all.size() && (all[i] >> 2) == key) ++i;
-    t.keys.push_back(key);
-    // 3: to evaluate, also a corner that only empty leaves where f may be undefined touch: a
-    // finer neighbour's corner on a leaf's face may be one, and its sign is then needed.
-    t.signs.push_back(code == 0 ? -1 : (code == 1 ? 1 : 3));
+    out.emplace_back(key, std::int8_t(code == 0 ? -1 : (code == 1 ? 1 : 3)));
   }
-  t.uncertain.assign(t.keys.size(), 0);
+  return out;
+}
+
+/// Evaluates the signs of the table's slots listed in `todo` (sign 3), in parallel.
+void evaluate_signs(VertexTable& t, const std::vector<std::size_t>& todo, const Grid& grid,
+                    ThreadEvaluators& evals, const Exec& exec) {
   exec.run([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.keys.size(), 1024), [&](auto r) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1024), [&](auto r) {
       RoundingScope scope;
       auto& ep = evals.local();
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        if (t.signs[i] != 3) continue;
-        const std::int8_t s = point_sign(*ep, grid.point(key_point(t.keys[i])));
-        t.signs[i] = s == 0 ? -1 : s;
-        t.uncertain[i] = s == 0;
+        VertexTable::Slot& v = t.slots[todo[i]];
+        const std::int8_t s = point_sign(*ep, grid.point(key_point(v.key)));
+        v.sign = s == 0 ? -1 : s;
+        v.uncertain = s == 0;
       }
     });
   });
-  t.build_hash();
+}
+
+VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
+                           ThreadEvaluators& evals, const Exec& exec) {
+  VertexTable t;
+  const std::vector<std::pair<Key, std::int8_t>> corners = corners_of(grid, leaves, exec);
+  t.resize(2 * corners.size());
+  std::vector<std::size_t> todo;
+  for (const auto& [key, sign] : corners) {
+    const std::size_t slot = t.put({key, sign, 0});
+    if (sign == 3) todo.push_back(slot);
+  }
+  evaluate_signs(t, todo, grid, evals, exec);
   return t;
+}
+
+/// Adds the corners of new leaves (the refinement of split ones) to the table.
+void add_vertices(VertexTable& t, const Grid& grid, const std::vector<Leaf>& fresh,
+                  ThreadEvaluators& evals, const Exec& exec) {
+  const std::vector<std::pair<Key, std::int8_t>> corners = corners_of(grid, fresh, exec);
+  t.reserve(corners.size());
+  std::vector<std::size_t> todo;
+  for (const auto& [key, sign] : corners) {
+    if (t.contains(key)) continue;
+    const std::size_t slot = t.put({key, sign, 0});
+    if (sign == 3) todo.push_back(slot);
+  }
+  evaluate_signs(t, todo, grid, evals, exec);
 }
 
 /// A mesh vertex on an edge piece: its id (lower end's key and axis), and its ends.
@@ -386,6 +431,7 @@ struct Crossing {
 struct CellOut {
   bool split = false;      ///< a global rule failed: split the leaf (or, at max depth, give up)
   bool uncertain = false;  ///< a corner's sign was not decided
+  bool blocked = false;    ///< a finer neighbour's piece or edge failed a rule
   std::uint64_t open_chains = 0;
   std::vector<std::pair<Key, Vec3>> crossings;  ///< local vertices 0..n-1
   std::vector<Vec3> centres;                    ///< local vertices n..
@@ -426,24 +472,24 @@ class Extractor {
       for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
       table_.prefetch(make_key(q));
     }
-    std::int8_t first = 0;
+    finer_ = false;
+    bool same = true;
     for (std::uint32_t k = 0; k < 8; ++k) {
-      const std::int8_t g = sign(
-          make_key({p[0] + (k & 1) * s, p[1] + ((k >> 1) & 1) * s, p[2] + ((k >> 2) & 1) * s}));
-      if (k == 0) first = g;
-      if (g != first) return false;
+      corner_keys_[k] =
+          make_key({p[0] + (k & 1) * s, p[1] + ((k >> 1) & 1) * s, p[2] + ((k >> 2) & 1) * s});
+      corner_signs_[k] = table_sign(corner_keys_[k]);
+      same = same && corner_signs_[k] == corner_signs_[0];
     }
-    if (s == 1) return true;
     // Face centres (one coordinate at 0 or s, the others at h) and edge midpoints (one at h).
-    for (std::uint32_t k = 0; k < 27; ++k) {
+    for (std::uint32_t k = 0; k < 27 && s > 1 && !finer_; ++k) {
       const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
       const int mids = (c[0] == 1) + (c[1] == 1) + (c[2] == 1);
       if (mids != 1 && mids != 2) continue;
       Index3 q;
       for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
-      if (table_.contains(make_key(q))) return false;
+      finer_ = table_.contains(make_key(q));
     }
-    return true;
+    return same && !finer_;
   }
 
   Key key_at(int a, std::uint32_t w, std::uint32_t u, std::uint32_t v) const {
@@ -464,7 +510,7 @@ class Extractor {
   void piece(int a, int side, std::uint32_t w, std::uint32_t u0, std::uint32_t v0,
              std::uint32_t s) {
     const std::uint32_t h = s / 2;
-    if (s > 1 && table_.contains(key_at(a, w, u0 + h, v0 + h))) {
+    if (s > 1 && finer_ && table_.contains(key_at(a, w, u0 + h, v0 + h))) {
       for (int k = 0; k < 4; ++k) piece(a, side, w, u0 + (k & 1) * h, v0 + (k >> 1) * h, h);
       return;
     }
@@ -488,13 +534,21 @@ class Extractor {
     if (len < 2) return;
     const std::array<std::uint32_t, 2> m = {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2};
     const Key km = key_at(a, w, m[0], m[1]);
-    if (!table_.contains(km)) return;
+    if (!finer_ || !table_.contains(km)) return;
     side_points(a, w, p, m, len / 2);
     cycle_.push_back(km);
     side_points(a, w, m, q, len / 2);
   }
 
+  // The sign at a cycle point: one of the leaf's corners (read once by quiet()) or another.
   std::int8_t sign(Key k) {
+    for (std::size_t i = 0; i < 8; ++i) {
+      if (corner_keys_[i] == k) return corner_signs_[i];
+    }
+    return table_sign(k);
+  }
+
+  std::int8_t table_sign(Key k) {
     const VertexTable::Slot* s = table_.find(k);
     if (!s) {  // cannot happen: every cycle point is a leaf corner
       out_.uncertain = true;
@@ -507,7 +561,8 @@ class Extractor {
   // The crossings of one piece, paired into segments (up crossing to down crossing).
   void pair_crossings(int a, std::uint32_t w, std::uint32_t u0, std::uint32_t v0, std::uint32_t s) {
     const std::size_t n = cycle_.size();
-    std::vector<std::pair<Key, bool>> xs;  // crossing id, up (- to +)
+    std::vector<std::pair<Key, bool>>& xs = piece_crossings_;  // crossing id, up (- to +)
+    xs.clear();
     for (std::size_t i = 0; i < n; ++i) {
       const Key p = cycle_[i], q = cycle_[(i + 1) % n];
       check_inner_edge(p, q);
@@ -517,7 +572,9 @@ class Extractor {
     }
     if (xs.empty()) return;
     if (xs.size() > 2) {
-      out_.split = true;
+      // Splitting the leaf that owns the piece (the finer side) resolves it; a coarser leaf that
+      // only sees the piece waits for that and is uncertified if it never happens.
+      (s == size_ ? out_.split : out_.blocked) = true;
       // Best effort: the sign at the piece's centre says which side is connected.
       const Vec3 centre = grid_.point(key_point(key_at(a, w, u0 + s / 2, v0 + s / 2)));
       const Vec3 mid = s > 1 ? centre
@@ -553,7 +610,7 @@ class Extractor {
         for (int k = 0; k < 3; ++k) {
           if (ed.lo[k] > ed.hi[k]) std::swap(ed.lo[k], ed.hi[k]);
         }
-        if (!edge_ok(e_, ed, axis)) out_.split = true;
+        if (!edge_ok(e_, ed, axis)) out_.blocked = true;  // the finer neighbour's edge
         return;
       }
     }
@@ -610,55 +667,55 @@ class Extractor {
     return at((ta * fb - tb * fa) / (fb - fa));
   }
 
-  // Chains the segments into loops and fans each loop.
-  void loops() {
-    if (segments_.empty()) return;
-    std::vector<std::pair<Key, Vec3>> pos;
+  // Places the leaf's crossings (out_.crossings, in the order of crossings_).
+  void place_crossings() {
+    out_.crossings.clear();
     for (const Crossing& c : crossings_) {
       // Up to four leaves share an edge piece: each placement is kept for the leaves after it.
       auto it = placed_.find(c.id);
       if (it == placed_.end()) it = placed_.emplace(c.id, place(c)).first;
-      pos.emplace_back(c.id, it->second);
+      out_.crossings.emplace_back(c.id, it->second);
     }
-    out_.crossings = pos;
-    auto local = [&](Key id) {
-      for (std::size_t i = 0; i < pos.size(); ++i) {
-        if (pos[i].first == id) return std::uint32_t(i);
-      }
-      return std::uint32_t(0);
-    };
-    std::vector<bool> used(segments_.size(), false);
+  }
+
+  std::uint32_t local(Key id) const {
+    for (std::size_t i = 0; i < out_.crossings.size(); ++i) {
+      if (out_.crossings[i].first == id) return std::uint32_t(i);
+    }
+    return 0;
+  }
+
+  // Follows the segments from segment s0 into loop_ (local vertex numbers); false when the chain
+  // does not close.
+  bool chain(std::size_t s0) {
+    loop_.clear();
+    for (std::size_t s = s0;;) {
+      used_[s] = true;
+      loop_.push_back(local(segments_[s].first));
+      const Key next = segments_[s].second;
+      if (next == segments_[s0].first) return true;
+      std::size_t t = 0;
+      while (t < segments_.size() && (used_[t] || segments_[t].first != next)) ++t;
+      if (t == segments_.size()) return false;
+      s = t;
+    }
+  }
+
+  // Chains the segments into loops and fans each loop.
+  void loops() {
+    if (segments_.empty()) return;
+    place_crossings();
+    used_.assign(segments_.size(), 0);
     int n_loops = 0;
     for (std::size_t s0 = 0; s0 < segments_.size(); ++s0) {
-      if (used[s0]) continue;
-      std::vector<std::uint32_t> loop;
-      std::size_t s = s0;
-      bool closed = false;
-      while (!used[s]) {
-        used[s] = true;
-        loop.push_back(local(segments_[s].first));
-        const Key next = segments_[s].second;
-        if (next == segments_[s0].first) {
-          closed = true;
-          break;
-        }
-        std::size_t t = segments_.size();
-        for (std::size_t k = 0; k < segments_.size(); ++k) {
-          if (!used[k] && segments_[k].first == next) {
-            t = k;
-            break;
-          }
-        }
-        if (t == segments_.size()) break;
-        s = t;
-      }
-      if (!closed) {
+      if (used_[s0]) continue;
+      if (!chain(s0)) {
         ++out_.open_chains;
         out_.split = true;
         continue;
       }
       ++n_loops;
-      fan(loop);
+      fan(loop_);
     }
     if (n_loops > 1) out_.split = true;
   }
@@ -673,7 +730,8 @@ class Extractor {
       out_.triangles.push_back({loop[0], loop[2], loop[1]});
       return;
     }
-    std::vector<Vec3> p(m);
+    std::vector<Vec3>& p = points_;
+    p.resize(m);
     Vec3 mean{};
     for (std::size_t i = 0; i < m; ++i) {
       p[i] = out_.crossings[loop[i]].second;
@@ -747,6 +805,15 @@ class Extractor {
   std::vector<Crossing> crossings_;
   std::vector<std::pair<Key, Key>> segments_;
   std::unordered_map<Key, Vec3> placed_;  ///< crossings placed by this extractor (one range)
+  /// The leaf's corners and their signs, and whether a finer neighbour puts corners on its faces.
+  std::array<Key, 8> corner_keys_{};
+  std::array<std::int8_t, 8> corner_signs_{};
+  bool finer_ = false;
+  // Scratch space kept between leaves.
+  std::vector<std::pair<Key, bool>> piece_crossings_;
+  std::vector<std::uint32_t> loop_;
+  std::vector<std::uint8_t> used_;
+  std::vector<Vec3> points_;
 };
 
 Grid make_grid(const CertifiedMeshSettings& s) {
@@ -784,27 +851,34 @@ struct Round {
   std::vector<CellOut> outs;  ///< per leaf (empty for empty leaves)
 };
 
-/// Extraction of every non-empty leaf (CellOut per leaf, empty for empty leaves).
-std::vector<CellOut> extract_all(const Grid& grid, const std::vector<Leaf>& leaves,
-                                 const VertexTable& table, const CertifiedMeshSettings& s,
-                                 ThreadEvaluators& evals, const Exec& exec) {
-  std::vector<CellOut> outs(leaves.size());
+/// Extraction of every non-empty leaf, or of those `todo` marks (CellOut per leaf, empty for
+/// empty leaves).
+void extract_all(const Grid& grid, const std::vector<Leaf>& leaves, const VertexTable& table,
+                 const CertifiedMeshSettings& s, ThreadEvaluators& evals, const Exec& exec,
+                 std::vector<CellOut>& outs, const std::vector<char>* todo = nullptr) {
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](auto range) {
       RoundingScope scope;
       Extractor x(grid, table, s, *evals.local());
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
-        if (leaves[i].kind != Kind::kEmpty) outs[i] = x.run(leaves[i]);
+        if (todo && !(*todo)[i]) continue;
+        outs[i] = leaves[i].kind != Kind::kEmpty ? x.run(leaves[i]) : CellOut{};
       }
     });
   });
-  return outs;
 }
 
-/// The leaves with the failing certified ones replaced by their refinement.
-std::vector<Leaf> split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& leaves,
-                               const std::vector<CellOut>& outs, ThreadEvaluators& evals,
-                               const Exec& exec, bool* any) {
+/// The leaves after a round: the failing certified ones replaced by their refinement.
+struct Split {
+  std::vector<Leaf> leaves;
+  std::vector<std::int64_t> origin;  ///< per leaf: its index before the split, or -1 if new
+  std::vector<Leaf> fresh;           ///< the new leaves
+  std::vector<Leaf> split;           ///< the leaves that were split
+};
+
+Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& leaves,
+                   const std::vector<CellOut>& outs, ThreadEvaluators& evals, const Exec& exec) {
+  Split out;
   std::vector<std::pair<Index3, int>> cells;
   std::vector<std::size_t> where;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
@@ -817,34 +891,127 @@ std::vector<Leaf> split_failed(const Grid& grid, const Refiner& r, const std::ve
            l.depth + 1});
     }
     where.push_back(i);
+    out.split.push_back(l);
   }
-  *any = !where.empty();
-  if (!*any) return leaves;
-  const std::vector<Leaf> fresh = refine_all(r, cells, evals, exec);
-  // Leaves of the 8 children of where[j], in order: split `fresh` by parent again.
-  std::vector<Leaf> out;
-  out.reserve(leaves.size() + fresh.size());
+  if (where.empty()) return out;
+  out.fresh = refine_all(r, cells, evals, exec);
+  // The new leaves of where[j] follow each other in `fresh`, in the order of `where`.
+  out.leaves.reserve(leaves.size() + out.fresh.size());
   std::size_t next = 0, w = 0;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     if (w < where.size() && where[w] == i) {
       const Leaf& p = leaves[i];
       const std::uint32_t s = grid.size(p.depth);
-      while (next < fresh.size() && fresh[next].at[0] >= p.at[0] &&
-             fresh[next].at[0] < p.at[0] + s && fresh[next].at[1] >= p.at[1] &&
-             fresh[next].at[1] < p.at[1] + s && fresh[next].at[2] >= p.at[2] &&
-             fresh[next].at[2] < p.at[2] + s) {
-        out.push_back(fresh[next++]);
+      auto inside = [&](const Leaf& f) {
+        for (std::size_t a = 0; a < 3; ++a) {
+          if (f.at[a] < p.at[a] || f.at[a] >= p.at[a] + s) return false;
+        }
+        return true;
+      };
+      while (next < out.fresh.size() && inside(out.fresh[next])) {
+        out.leaves.push_back(out.fresh[next++]);
+        out.origin.push_back(-1);
       }
       ++w;
     } else {
-      out.push_back(leaves[i]);
+      out.leaves.push_back(leaves[i]);
+      out.origin.push_back(std::int64_t(i));
     }
   }
   return out;
 }
 
+/// Finds the leaves that touch (share a face, an edge or a corner with) a given leaf, through a
+/// map of the leaves by depth and position: for each of the leaf's 26 neighbour cells of its own
+/// size, the coarser leaf that holds it, or the finer leaves inside it that touch the leaf.
+class Neighbours {
+ public:
+  Neighbours(const Grid& grid, const std::vector<Leaf>& leaves) : grid_(grid) {
+    index_.reserve(leaves.size());
+    for (std::size_t i = 0; i < leaves.size(); ++i)
+      index_.emplace(id(leaves[i].depth, leaves[i].at), i);
+    for (std::size_t a = 0; a < 3; ++a)
+      extent_[a] = std::int64_t(grid.size(0)) << grid.root_bits[a];
+  }
+
+  /// Sets mark[i] for every leaf i that touches `leaf`.
+  void mark_around(const Leaf& leaf, std::vector<char>& mark) {
+    leaf_ = leaf;
+    size_ = grid_.size(leaf.depth);
+    mark_ = &mark;
+    for (int k = 0; k < 27; ++k) {
+      Index3 q;
+      if (k != 13 && neighbour_cell(k, q) && !coarser(q)) collect(leaf.depth, q);
+    }
+  }
+
+ private:
+  static Key id(int depth, const Index3& at) { return (Key(depth) << 60) | make_key(at); }
+
+  // The corner of neighbour cell k (offsets -1, 0, 1 per axis, x fastest); false outside the grid.
+  bool neighbour_cell(int k, Index3& q) const {
+    for (std::size_t a = 0; a < 3; ++a) {
+      const int d = (k / (a == 0 ? 1 : (a == 1 ? 3 : 9))) % 3 - 1;
+      const std::int64_t c = std::int64_t(leaf_.at[a]) + d * size_;
+      if (c < 0 || c >= extent_[a]) return false;
+      q[a] = std::uint32_t(c);
+    }
+    return true;
+  }
+
+  // Marks the leaf of the leaf's depth or coarser that holds the cell at q, if there is one.
+  bool coarser(const Index3& q) {
+    for (int depth = leaf_.depth; depth >= 0; --depth) {
+      const std::uint32_t size = grid_.size(depth);
+      const auto it =
+          index_.find(id(depth, {q[0] / size * size, q[1] / size * size, q[2] / size * size}));
+      if (it != index_.end()) {
+        (*mark_)[it->second] = 1;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  // Marks the leaves at or inside the cell (depth, at) that touch the leaf's closed box.
+  void collect(int depth, const Index3& at) {
+    const std::int64_t size = grid_.size(depth);
+    for (std::size_t a = 0; a < 3; ++a) {
+      if (at[a] > leaf_.at[a] + size_ || at[a] + size < std::int64_t(leaf_.at[a])) return;
+    }
+    const auto it = index_.find(id(depth, at));
+    if (it != index_.end()) {
+      (*mark_)[it->second] = 1;
+      return;
+    }
+    if (depth == grid_.max_depth) return;
+    const std::uint32_t h = std::uint32_t(size / 2);
+    for (std::uint32_t k = 0; k < 8; ++k) {
+      collect(depth + 1,
+              {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h});
+    }
+  }
+
+  const Grid& grid_;
+  std::unordered_map<Key, std::size_t> index_;
+  std::array<std::int64_t, 3> extent_{};
+  Leaf leaf_{};
+  std::int64_t size_ = 1;
+  std::vector<char>* mark_ = nullptr;
+};
+
+/// Marks the leaves that touch one of the `split` leaves: their face pieces may have changed.
+std::vector<char> touching(const Grid& grid, const std::vector<Leaf>& leaves,
+                           const std::vector<Leaf>& split) {
+  std::vector<char> mark(leaves.size(), 0);
+  Neighbours n(grid, leaves);
+  for (const Leaf& l : split) n.mark_around(l, mark);
+  return mark;
+}
+
 /// Joins the leaves' pieces into one mesh (crossings welded by id) and fills the statistics.
-void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r, CertifiedMesh& m) {
+void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r, bool strict,
+              CertifiedMesh& m) {
   std::vector<std::pair<Key, Vec3>> all;
   for (const CellOut& o : r.outs) all.insert(all.end(), o.crossings.begin(), o.crossings.end());
   std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -855,6 +1022,7 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
   for (const auto& c : all) soup.vertices.push_back(c.second);
   CertifiedMeshStats& st = m.stats;
   RoundingScope scope;
+  double certified_diagonal = 0;  // over certified leaves that may hold surface
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     const Leaf& l = leaves[i];
     st.finest_depth = std::max(st.finest_depth, int(l.depth));
@@ -864,7 +1032,7 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
     }
     const CellOut& o = r.outs[i];
     const Box3 box = grid.box(l.at, grid.size(l.depth));
-    const bool certified = l.kind == Kind::kCertified && !o.split && !o.uncertain;
+    const bool certified = l.kind == Kind::kCertified && !o.split && !o.blocked && !o.uncertain;
     if (certified) {
       ++st.certified_leaves;
     } else {
@@ -872,10 +1040,14 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
       m.uncertified.push_back({box, int(l.depth), o.uncertain ? 2 : 1});
     }
     st.open_chains += o.open_chains;
-    if (o.triangles.empty()) continue;
     const Vec3 d = box.size();
-    double& bound = certified ? st.distance_bound : st.uncertified_distance_bound;
-    bound = std::fmax(bound, std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z));
+    const double diagonal = std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    if (!certified) st.uncertified_diagonal = std::fmax(st.uncertified_diagonal, diagonal);
+    if (certified) certified_diagonal = std::fmax(certified_diagonal, diagonal);
+    if (certified && !o.triangles.empty()) {
+      st.mesh_to_surface = std::fmax(st.mesh_to_surface, diagonal);
+    }
+    if (o.triangles.empty()) continue;
     std::vector<std::uint32_t> map(o.crossings.size() + o.centres.size());
     for (std::size_t k = 0; k < o.crossings.size(); ++k) {
       const auto it =
@@ -889,7 +1061,9 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
     }
     for (const auto& t : o.triangles) soup.triangles.push_back({map[t[0]], map[t[1]], map[t[2]]});
   }
-  for (const auto& t : r.table.uncertain) st.uncertain_corners += t;
+  for (const auto& v : r.table.slots)
+    st.uncertain_corners += v.key != VertexTable::kNone && v.uncertain;
+  st.surface_to_mesh = strict ? st.mesh_to_surface : certified_diagonal + st.mesh_to_surface;
 }
 
 }  // namespace
@@ -938,21 +1112,35 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   };
   std::vector<Leaf> leaves = refine_all(refiner, roots, evals, exec);
   lap(st.seconds_refine);
+  // Round 1 extracts every leaf; later rounds only the new leaves and those touching a split one.
   Round r;
+  r.table = build_vertices(grid, leaves, evals, exec);
+  lap(st.seconds_table);
+  r.outs.resize(leaves.size());
+  extract_all(grid, leaves, r.table, settings, evals, exec, r.outs);
+  lap(st.seconds_extract);
   for (;;) {
     if (phase.cancelled()) throw Error("certified mesh: cancelled");
-    r.table = build_vertices(grid, leaves, evals, exec);
-    lap(st.seconds_table);
-    r.outs = extract_all(grid, leaves, r.table, settings, evals, exec);
-    lap(st.seconds_extract);
     ++st.rounds;
-    bool any = false;
-    std::vector<Leaf> next = split_failed(grid, refiner, leaves, r.outs, evals, exec, &any);
+    Split sp = split_failed(grid, refiner, leaves, r.outs, evals, exec);
     lap(st.seconds_refine);
-    if (!any) break;
-    leaves = std::move(next);
+    if (sp.split.empty()) break;
+    add_vertices(r.table, grid, sp.fresh, evals, exec);
+    lap(st.seconds_table);
+    std::vector<char> todo = touching(grid, sp.leaves, sp.split);
+    std::vector<CellOut> outs(sp.leaves.size());
+    for (std::size_t i = 0; i < sp.leaves.size(); ++i) {
+      if (sp.origin[i] < 0)
+        todo[i] = 1;
+      else if (!todo[i])
+        outs[i] = std::move(r.outs[std::size_t(sp.origin[i])]);
+    }
+    leaves = std::move(sp.leaves);
+    extract_all(grid, leaves, r.table, settings, evals, exec, outs, &todo);
+    r.outs = std::move(outs);
+    lap(st.seconds_extract);
   }
-  assemble(grid, leaves, r, m);
+  assemble(grid, leaves, r, settings.strict, m);
   st.leaves = leaves.size();
   st.roots = certified_root_cells(settings);
   for (const auto& e : evals) st.interval_evaluations += e->evaluations;

@@ -2,18 +2,19 @@
 // certify, and the list of cells it could not (docs/mesh.md, "Certified meshing").
 //
 // An adaptive octree over a grid of near-cubic root cells is refined until every leaf is either
-// *empty* (0 outside the interval value of f over the closed cell) or *certified*: the interval
-// dot product of two independent gradient enclosures over the cell excludes 0 (Plantinga and
-// Vegter's small normal variation), every face of the cell has a nowhere-vanishing tangential
-// gradient (or no zero), every edge has a nowhere-vanishing derivative along it (or no zero), every
-// face piece of its boundary (faces are cut where a finer neighbour touches them) shows at most
-// two sign changes, the crossings on its boundary close into at most one loop, and that loop's fan
-// around an inner point projects one-to-one along the loop's normal. Under these conditions the
-// surface meets each certified cell in one disc (or not at all), each face piece in one arc (or
-// not at all), and each edge piece at most once; the mesh has a vertex on each crossed edge piece,
-// a segment across each crossed face piece, and a fan over each loop, so each cell, face and edge
-// holds a piece of mesh homeomorphic to the surface's piece there, which gives an ambient isotopy
-// that maps every cell to itself.
+// *empty* (0 outside the interval value of f over the closed cell, natural or mean-value form) or
+// *certified*: f is strictly monotone along one fixed direction over the cell (Plantinga and
+// Vegter's test, 0 outside the dot product of two independent gradient enclosures, or 0 outside
+// d.G for a fixed direction d), every face piece of its boundary (faces are cut where a finer
+// neighbour touches them) shows at most two sign changes, the crossings on its boundary close
+// into at most one loop, and that loop's fan around an inner point projects one-to-one along the
+// loop's normal. The surface then meets each certified cell in one disc (or not at all) and the
+// mesh has a vertex on each crossed edge piece, a segment across each crossed face piece and a
+// fan over each loop. Closed curves of the surface inside a face, and double crossings of an
+// edge, which corner signs cannot see, are either excluded by proof (`strict`: no critical point
+// of f on any face, f monotone on every edge), which gives an ambient isotopy mapping every cell
+// to itself, or pushed across by Plantinga and Vegter's argument (the default). docs/mesh.md
+// states the rules and the argument.
 //
 // A leaf that reaches the depth limit without either certificate is *uncertified*: meshed by the
 // same rules as well as they go (never dropped) and returned, so that callers can report it.
@@ -82,11 +83,19 @@ struct CertifiedMeshStats {
   std::uint64_t rounds = 0;             ///< global rounds of splitting (faces, loops, fans)
   std::uint64_t interval_evaluations = 0;  ///< of f and its gradient, over cells/faces/edges/points
   int finest_depth = 0;                    ///< deepest leaf below its root
-  /// The largest diagonal of a certified leaf that holds mesh: the Hausdorff distance between
-  /// the mesh and the surface, both restricted to the certified leaves, is at most this.
-  double distance_bound = 0;
-  /// The same for uncertified leaves that hold mesh (0 when none).
-  double uncertified_distance_bound = 0;
+  /// Within the certified leaves, every mesh point lies at most this far from the surface: the
+  /// largest diagonal of a certified leaf that holds mesh (its triangles stay in the leaf, and a
+  /// leaf with a loop holds surface).
+  double mesh_to_surface = 0;
+  /// Within the certified leaves, every surface point lies at most this far from the mesh. With
+  /// `strict`, a certified leaf without a loop holds no surface, so it equals mesh_to_surface;
+  /// by default a cap of the surface pushed across a face may lie in a leaf without mesh next to
+  /// the leaf whose mesh stands for it: the largest diagonal of a certified leaf that may hold
+  /// surface plus mesh_to_surface.
+  double surface_to_mesh = 0;
+  /// The largest diagonal of an uncertified leaf (0 when none): there the mesh may also miss or
+  /// add pieces.
+  double uncertified_diagonal = 0;
   /// Wall time of the phases: refinement (phase 1, and the refinement of split leaves), the table
   /// of leaf corners and their signs, extraction (pieces, loops, fans), joining the mesh.
   double seconds_refine = 0, seconds_table = 0, seconds_extract = 0, seconds_assemble = 0;

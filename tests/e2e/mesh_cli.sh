@@ -37,6 +37,13 @@ for field in '"topology_certified": true' '"uncertified_cells": 0' '"components"
 done
 grep -A2 '"genus_of_closed_components"' "$tmp/torus.json" | grep -q '^ *1$' || fail "thin torus genus"
 grep -q '^certified' "$tmp/out.txt" || fail "certified summary"
+# ... and loses no pixel of the IAA render (flying edges loses 194 of this tube thinner than a pixel).
+probe="$("$bin/iaa" compare none.toml --mesh none.ply -o "$tmp/probe.png" 2>&1 || true)"
+if ! grep -q "built without" <<< "$probe"; then
+  "$bin/iaa" compare "$2/data/scenes/thin_torus.toml" --mesh "$tmp/torus.ply" -o "$tmp/torus.png" \
+    --report "$tmp/torus_cmp.json" -q > /dev/null
+  grep -q '"lost": 0,' "$tmp/torus_cmp.json" || fail "thin torus: lost pixels"
+fi
 [ -s "$tmp/torus_unc.vtu" ] || fail "uncertified boxes file (empty set) not written"
 "$bin/iaa" mesh "$2/data/scenes/teardrop.toml" --max-depth 7 -o "$tmp/td.ply" --report "$tmp/td.json" \
   --uncertified "$tmp/td_unc.vtu" -q > "$tmp/out.txt"

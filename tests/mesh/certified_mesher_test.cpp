@@ -61,7 +61,8 @@ void expect_certified_closed(const Checked& c) {
   EXPECT_EQ(c.mesh.stats.uncertified_leaves, 0u);
   EXPECT_TRUE(c.mesh.uncertified.empty());
   EXPECT_EQ(c.mesh.stats.open_chains, 0u);
-  EXPECT_GT(c.mesh.stats.distance_bound, 0.0);
+  EXPECT_GT(c.mesh.stats.mesh_to_surface, 0.0);
+  EXPECT_GE(c.mesh.stats.surface_to_mesh, c.mesh.stats.mesh_to_surface);
 #ifdef IAA_HAVE_CGAL
   EXPECT_EQ(count_self_intersections(c.mesh.soup), 0u);
 #endif

@@ -71,8 +71,10 @@ void print_certificate(const meshing::MeshRun& run) {
         "uncertified  %zu cells reached depth %s without a certificate (meshed best-effort)\n",
         run.uncertified.size(), d["max_depth"].dump().c_str());
   }
-  std::printf("distance     mesh and surface within %.3g of each other inside certified cells\n",
-              d["distance_bound"]["certified"].get<double>());
+  std::printf(
+      "distance     inside certified cells: mesh to surface <= %.3g, surface to mesh <= %.3g\n",
+      d["distance_bound"]["mesh_to_surface"].get<double>(),
+      d["distance_bound"]["surface_to_mesh"].get<double>());
 }
 
 void add_certificate(nlohmann::json& j, const meshing::MeshRun& run, const Mesh& mesh) {

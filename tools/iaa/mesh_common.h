@@ -209,13 +209,15 @@ inline void run_certified(const Surface& s, const MeshParams& p, const Exec& exe
                  {"seconds_extract", st.seconds_extract},
                  {"seconds_assemble", st.seconds_assemble}};
   run.details["distance_bound"] = {
-      {"certified", st.distance_bound},
-      {"uncertified", st.uncertified_distance_bound},
+      {"mesh_to_surface", st.mesh_to_surface},
+      {"surface_to_mesh", st.surface_to_mesh},
+      {"uncertified_cell_diagonal", st.uncertified_diagonal},
       {"meaning",
-       "the largest diagonal of a leaf that holds mesh: within the certified leaves, every mesh "
-       "point lies within 'certified' of the surface and every surface point within "
-       "'certified' of the mesh (the same for uncertified leaves with 'uncertified', where the "
-       "mesh may miss or add pieces)"}};
+       "within the certified cells, every mesh point lies within mesh_to_surface of the surface "
+       "(the largest diagonal of a certified cell holding mesh) and every surface point within "
+       "surface_to_mesh of the mesh (the same with --strict; by default plus the largest "
+       "diagonal of a certified cell that may hold surface, for caps pushed across a face); in "
+       "uncertified cells the mesh may miss or add pieces"}};
   run.summary = "certified, depth " + std::to_string(cs.min_depth) + ".." +
                 std::to_string(cs.max_depth) + " below " + std::to_string(st.roots[0]) + "x" +
                 std::to_string(st.roots[1]) + "x" + std::to_string(st.roots[2]) +
