@@ -1,6 +1,6 @@
 // Enclosure <-> .vtu (enclosure_vtk.h). The arrays are filled through raw pointers in parallel so
 // that a million voxels convert in a fraction of a second; the rest is VTK's writer, with LZ4
-// compression (zlib was several times slower for the same files).
+// compression, the fastest it offers (docs/enclose.md, "Speed").
 #include "viz/enclosure_vtk.h"
 
 #include <tbb/parallel_for.h>
@@ -129,21 +129,20 @@ std::uint64_t field_number(vtkUnstructuredGrid* g, const char* name, const std::
   return v;
 }
 
-}  // namespace
-
-vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
-                                                       const EnclosureInfo& info) {
-  const std::size_t n = enc.cells.size();
-  const auto nc = static_cast<vtkIdType>(n);
-
+/// The deepest depth that holds a cell: the grid on which corners are numbered.
+int deepest_depth(const Enclosure& enc) {
   int max_depth = 0;
   for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
     if (enc.counts_by_depth[d][0] + enc.counts_by_depth[d][1] > 0) max_depth = static_cast<int>(d);
   }
+  return max_depth;
+}
 
-  // Pass 1, per chunk of consecutive cells (compact in space: Morton order): the chunk's unique
-  // corners, as integer positions on the grid of the deepest cells, and its connectivity in
-  // chunk-local point numbers. Corners shared across chunks are repeated, which costs little.
+/// Pass 1, per chunk of consecutive cells (compact in space: Morton order): the chunk's unique
+/// corners, as integer positions on the grid of the deepest cells, and its connectivity in
+/// chunk-local point numbers. Corners shared across chunks are repeated, which costs little.
+std::vector<ChunkPoints> number_corners(const Enclosure& enc, int max_depth) {
+  const std::size_t n = enc.cells.size();
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
   std::vector<ChunkPoints> parts(chunks);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const auto& r) {
@@ -166,48 +165,69 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
       }
     }
   });
-  std::vector<std::uint64_t> base(chunks + 1, 0);
-  for (std::size_t ch = 0; ch < chunks; ++ch) base[ch + 1] = base[ch] + parts[ch].keys.size();
-  const auto np = static_cast<vtkIdType>(base[chunks]);
+  return parts;
+}
 
-  auto coords = make_array<vtkDoubleArray>("Points", 3, np);
-  // 32-bit connectivity and offsets when they fit: VTK 9 writes a cell array's own storage type,
-  // so this halves their bytes in the file (and the time to compress them).
-  const bool narrow = 8 * nc < (vtkIdType{1} << 31) && np < (vtkIdType{1} << 31);
-  auto conn32 = make_array<vtkTypeInt32Array>("connectivity", 1, narrow ? 8 * nc : 0);
-  auto offsets32 = make_array<vtkTypeInt32Array>("offsets", 1, narrow ? nc + 1 : 0);
-  auto conn64 = make_array<vtkTypeInt64Array>("connectivity", 1, narrow ? 0 : 8 * nc);
-  auto offsets64 = make_array<vtkTypeInt64Array>("offsets", 1, narrow ? 0 : nc + 1);
-  auto types = make_array<vtkUnsignedCharArray>("types", 1, nc);
-  auto depth = make_array<vtkUnsignedCharArray>("depth", 1, nc);
-  // Int8, not UInt8: VTK mappers draw unsigned char scalars as colours instead of mapping them.
-  auto cls = make_array<vtkSignedCharArray>("class", 1, nc);
-  auto flo = make_array<vtkDoubleArray>("f_lo", 1, nc);
-  auto fhi = make_array<vtkDoubleArray>("f_hi", 1, nc);
-  auto index = make_array<vtkTypeUInt32Array>("index", 3, nc);
+/// The arrays of the grid, allocated at their final size and filled through raw pointers.
+struct VoxelArrays {
+  VoxelArrays(vtkIdType nc, vtkIdType np)
+      // 32-bit connectivity and offsets when they fit: VTK 9 writes a cell array's own storage
+      // type, so this halves their bytes in the file (and the time to compress them).
+      : narrow(8 * nc < (vtkIdType{1} << 31) && np < (vtkIdType{1} << 31)),
+        coords(make_array<vtkDoubleArray>("Points", 3, np)),
+        conn32(make_array<vtkTypeInt32Array>("connectivity", 1, narrow ? 8 * nc : 0)),
+        offsets32(make_array<vtkTypeInt32Array>("offsets", 1, narrow ? nc + 1 : 0)),
+        conn64(make_array<vtkTypeInt64Array>("connectivity", 1, narrow ? 0 : 8 * nc)),
+        offsets64(make_array<vtkTypeInt64Array>("offsets", 1, narrow ? 0 : nc + 1)),
+        types(make_array<vtkUnsignedCharArray>("types", 1, nc)),
+        depth(make_array<vtkUnsignedCharArray>("depth", 1, nc)),
+        cls(make_array<vtkSignedCharArray>("class", 1, nc)),
+        flo(make_array<vtkDoubleArray>("f_lo", 1, nc)),
+        fhi(make_array<vtkDoubleArray>("f_hi", 1, nc)),
+        index(make_array<vtkTypeUInt32Array>("index", 3, nc)),
+        cn32(conn32->GetPointer(0)),
+        of32(offsets32->GetPointer(0)),
+        cn64(conn64->GetPointer(0)),
+        of64(offsets64->GetPointer(0)) {}
 
-  double* p = coords->GetPointer(0);
-  vtkTypeInt32* cn32 = conn32->GetPointer(0);
-  vtkTypeInt32* of32 = offsets32->GetPointer(0);
-  vtkTypeInt64* cn64 = conn64->GetPointer(0);
-  vtkTypeInt64* of64 = offsets64->GetPointer(0);
-  const auto set_id = [&](vtkTypeInt32* a32, vtkTypeInt64* a64, std::size_t i, std::uint64_t v) {
+  /// Sets entry i of the connectivity (or offsets) in whichever width is in use.
+  void set_id(vtkTypeInt32* a32, vtkTypeInt64* a64, std::size_t i, std::uint64_t v) const {
     if (narrow) {
       a32[i] = static_cast<vtkTypeInt32>(v);
     } else {
       a64[i] = static_cast<vtkTypeInt64>(v);
     }
-  };
-  unsigned char* ty = types->GetPointer(0);
-  unsigned char* de = depth->GetPointer(0);
-  signed char* cl = cls->GetPointer(0);
-  double* lo = flo->GetPointer(0);
-  double* hi = fhi->GetPointer(0);
-  std::uint32_t* ix = index->GetPointer(0);
-  set_id(of32, of64, n, 8 * n);
-  // Pass 2: global numbers and the arrays. Grid coordinates are defined with upward rounding
-  // (octree.h), which makes the points exactly the corners of Enclosure::box.
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks, 1), [&](const auto& r) {
+  }
+
+  bool narrow;
+  vtkSmartPointer<vtkDoubleArray> coords;
+  vtkSmartPointer<vtkTypeInt32Array> conn32, offsets32;
+  vtkSmartPointer<vtkTypeInt64Array> conn64, offsets64;
+  vtkSmartPointer<vtkUnsignedCharArray> types, depth;
+  // Int8, not UInt8: VTK mappers draw unsigned char scalars as colours instead of mapping them.
+  vtkSmartPointer<vtkSignedCharArray> cls;
+  vtkSmartPointer<vtkDoubleArray> flo, fhi;
+  vtkSmartPointer<vtkTypeUInt32Array> index;
+  // Raw storage of the connectivity and offsets, taken once: GetPointer is not for threads.
+  vtkTypeInt32 *cn32, *of32;
+  vtkTypeInt64 *cn64, *of64;
+};
+
+/// Pass 2: global point numbers (chunk `ch` starts at base[ch]) and the arrays. Grid coordinates
+/// are defined with upward rounding (octree.h), which makes the points exactly the corners of
+/// Enclosure::box. Each chunk's pass-1 data is freed as soon as it is used.
+void fill_arrays(const Enclosure& enc, int max_depth, std::vector<ChunkPoints>& parts,
+                 const std::vector<std::uint64_t>& base, VoxelArrays& v) {
+  const std::size_t n = enc.cells.size();
+  double* p = v.coords->GetPointer(0);
+  unsigned char* ty = v.types->GetPointer(0);
+  unsigned char* de = v.depth->GetPointer(0);
+  signed char* cl = v.cls->GetPointer(0);
+  double* lo = v.flo->GetPointer(0);
+  double* hi = v.fhi->GetPointer(0);
+  std::uint32_t* ix = v.index->GetPointer(0);
+  v.set_id(v.of32, v.of64, n, 8 * n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, parts.size(), 1), [&](const auto& r) {
     RoundingScope scope;
     for (std::size_t ch = r.begin(); ch != r.end(); ++ch) {
       ChunkPoints& part = parts[ch];
@@ -221,8 +241,10 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
       const std::size_t b = ch * kChunk, e = std::min(n, b + kChunk);
       for (std::size_t i = b; i < e; ++i) {
         const Cell& c = enc.cells[i];
-        for (int k = 0; k < 8; ++k) set_id(cn32, cn64, 8 * i + k, pb + part.local[8 * (i - b) + k]);
-        set_id(of32, of64, i, 8 * i);
+        for (int k = 0; k < 8; ++k) {
+          v.set_id(v.cn32, v.cn64, 8 * i + k, pb + part.local[8 * (i - b) + k]);
+        }
+        v.set_id(v.of32, v.of64, i, 8 * i);
         ty[i] = VTK_VOXEL;
         de[i] = c.depth;
         cl[i] = static_cast<signed char>(c.cls);
@@ -234,27 +256,34 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
       std::vector<std::uint32_t>().swap(part.local);
     }
   });
+}
 
+/// The grid of the filled arrays, with `class` as the active scalars.
+vtkSmartPointer<vtkUnstructuredGrid> make_grid(const VoxelArrays& v) {
   auto points = vtkSmartPointer<vtkPoints>::New();
-  points->SetData(coords);
+  points->SetData(v.coords);
   auto cells = vtkSmartPointer<vtkCellArray>::New();
-  if (narrow) {
-    cells->SetData(offsets32, conn32);
+  if (v.narrow) {
+    cells->SetData(v.offsets32, v.conn32);
   } else {
-    cells->SetData(offsets64, conn64);
+    cells->SetData(v.offsets64, v.conn64);
   }
-
   auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
   grid->SetPoints(points);
-  grid->SetCells(types, cells);
+  grid->SetCells(v.types, cells);
   vtkCellData* cd = grid->GetCellData();
-  cd->AddArray(depth);
-  cd->AddArray(cls);
-  cd->AddArray(flo);
-  cd->AddArray(fhi);
-  cd->AddArray(index);
+  cd->AddArray(v.depth);
+  cd->AddArray(v.cls);
+  cd->AddArray(v.flo);
+  cd->AddArray(v.fhi);
+  cd->AddArray(v.index);
   cd->SetActiveScalars("class");
+  return grid;
+}
 
+/// The field data of the file layout (enclosure_vtk.h): format, expression, bounds, settings
+/// and evaluation counts.
+void add_fields(vtkUnstructuredGrid* grid, const Enclosure& enc, const EnclosureInfo& info) {
   vtkFieldData* fd = grid->GetFieldData();
   auto format = make_array<vtkStringArray>("format", 1, 1);
   format->SetValue(0, kFormat);
@@ -274,6 +303,21 @@ vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
   fd->AddArray(scalar_field<vtkTypeUInt64Array>("max_boxes", info.settings.max_boxes));
   fd->AddArray(scalar_field<vtkTypeUInt64Array>("evaluations", enc.evaluations));
   fd->AddArray(scalar_field<vtkTypeUInt64Array>("corner_evaluations", enc.corner_evaluations));
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
+                                                       const EnclosureInfo& info) {
+  const int max_depth = deepest_depth(enc);
+  std::vector<ChunkPoints> parts = number_corners(enc, max_depth);
+  // Each chunk's points follow those of the chunks before it.
+  std::vector<std::uint64_t> base(parts.size() + 1, 0);
+  for (std::size_t ch = 0; ch < parts.size(); ++ch) base[ch + 1] = base[ch] + parts[ch].keys.size();
+  VoxelArrays arrays(static_cast<vtkIdType>(enc.cells.size()), static_cast<vtkIdType>(base.back()));
+  fill_arrays(enc, max_depth, parts, base, arrays);
+  vtkSmartPointer<vtkUnstructuredGrid> grid = make_grid(arrays);
+  add_fields(grid, enc, info);
   return grid;
 }
 
@@ -289,7 +333,7 @@ void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid, Progress
   writer->SetDataModeToAppended();
   writer->EncodeAppendedDataOff();  // raw binary, not base64
   writer->SetCompressorTypeToLZ4();
-  writer->SetCompressionLevel(1);  // LZ4's fastest: ~1 % larger files
+  writer->SetCompressionLevel(1);  // LZ4's fastest level (docs/enclose.md, "Speed")
 
   writer->SetHeaderTypeToUInt64();
   // Int32 point numbers when they fit: half the bytes of connectivity and offsets.
@@ -335,35 +379,27 @@ VtuWriteTimes write_enclosure_vtu_timed(const std::string& path, const Enclosure
   return t;
 }
 
-EnclosureFile read_enclosure_vtu(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    throw Error("cannot read '" + path + "': no such file");
-  }
-  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
-  reader->SetFileName(path.c_str());
-  reader->Update();
-  vtkUnstructuredGrid* g = reader->GetOutput();
-  if (reader->GetErrorCode() != 0 || !g) throw Error("cannot read '" + path + "' as a .vtu file");
+namespace {
 
+/// The field data: format, expression, bounds, settings (validated) and evaluation counts.
+void read_fields(vtkUnstructuredGrid* g, const std::string& path, EnclosureFile* out) {
   auto* format = vtkStringArray::SafeDownCast(field(g, "format", path));
   if (!format || format->GetValue(0) != kFormat) {
     throw Error("'" + path + "' is not an iaa enclosure (no format '" + kFormat + "')");
   }
-  EnclosureFile out;
   auto* expr = vtkStringArray::SafeDownCast(field(g, "expression", path));
   if (!expr) throw Error("'" + path + "': field data 'expression' is not a string");
-  out.info.expression = expr->GetValue(0);
+  out->info.expression = expr->GetValue(0);
   auto* bounds = vtkDataArray::SafeDownCast(field(g, "bounds", path));
   if (!bounds || bounds->GetNumberOfValues() != 6) {
     throw Error("'" + path + "': field data 'bounds' must hold 6 numbers");
   }
-  Enclosure& enc = out.enclosure;
+  Enclosure& enc = out->enclosure;
   for (int a = 0; a < 3; ++a) {
     enc.bounds.lo[a] = bounds->GetComponent(2 * a, 0);
     enc.bounds.hi[a] = bounds->GetComponent(2 * a + 1, 0);
   }
-  EncloseSettings& s = out.info.settings;
+  EncloseSettings& s = out->info.settings;
   s.bounds = enc.bounds;
   s.depth = static_cast<int>(field_number(g, "depth", path));
   s.refine_possible = static_cast<int>(field_number(g, "refine_possible", path));
@@ -371,7 +407,11 @@ EnclosureFile read_enclosure_vtu(const std::string& path) {
   enc.evaluations = field_number(g, "evaluations", path);
   enc.corner_evaluations = field_number(g, "corner_evaluations", path);
   s.validate();
+}
 
+/// The cells from the cell arrays, each checked to have a depth up to `max_depth` and a class,
+/// and the counts per depth.
+void read_cells(vtkUnstructuredGrid* g, const std::string& path, int max_depth, Enclosure* enc) {
   const vtkIdType nc = g->GetNumberOfCells();
   auto* depth = vtkUnsignedCharArray::SafeDownCast(cell_array(g, "depth", 1, nc, path));
   auto* cls = vtkSignedCharArray::SafeDownCast(cell_array(g, "class", 1, nc, path));
@@ -383,11 +423,10 @@ EnclosureFile read_enclosure_vtu(const std::string& path) {
   if (!depth || !cls || !flo || !fhi || !index) {
     throw Error("'" + path + "' is not an iaa enclosure: a cell array has the wrong type");
   }
-  const int max_depth = s.depth + s.refine_possible;
-  enc.counts_by_depth.assign(static_cast<std::size_t>(max_depth + 1), {0, 0});
-  enc.cells.resize(static_cast<std::size_t>(nc));
+  enc->counts_by_depth.assign(static_cast<std::size_t>(max_depth + 1), {0, 0});
+  enc->cells.resize(static_cast<std::size_t>(nc));
   for (vtkIdType i = 0; i < nc; ++i) {
-    Cell& c = enc.cells[static_cast<std::size_t>(i)];
+    Cell& c = enc->cells[static_cast<std::size_t>(i)];
     c.depth = depth->GetValue(i);
     const signed char k = cls->GetValue(i);
     if (c.depth < 1 || c.depth > max_depth || (k != 1 && k != 2)) {
@@ -396,34 +435,50 @@ EnclosureFile read_enclosure_vtu(const std::string& path) {
     c.cls = static_cast<CellClass>(k);
     c.f = Interval(flo->GetValue(i), fhi->GetValue(i));
     for (int a = 0; a < 3; ++a) c.index[a] = index->GetValue(3 * i + a);
-    ++enc.counts_by_depth[c.depth][k == 1 ? 0 : 1];
+    ++enc->counts_by_depth[c.depth][k == 1 ? 0 : 1];
   }
+}
 
-  // Check the voxels' points against the boxes the indices describe.
-  out.points_match_boxes = true;
-  {
-    vtkCellArray* cells = g->GetCells();
-    vtkPoints* pts = g->GetPoints();
-    RoundingScope scope;
-    auto ids = vtkSmartPointer<vtkIdList>::New();
-    for (vtkIdType i = 0; i < nc && out.points_match_boxes; ++i) {
-      if (g->GetCellType(i) != VTK_VOXEL) {
-        out.points_match_boxes = false;
-        break;
-      }
-      cells->GetCellAtId(i, ids);
-      const Box3 box = enc.box(enc.cells[static_cast<std::size_t>(i)]);
-      for (int k = 0; k < 8; ++k) {
-        double q[3];
-        pts->GetPoint(ids->GetId(k), q);
-        if (q[0] != ((k & 1) ? box.hi.x : box.lo.x) || q[1] != ((k & 2) ? box.hi.y : box.lo.y) ||
-            q[2] != ((k & 4) ? box.hi.z : box.lo.z)) {
-          out.points_match_boxes = false;
-          break;
-        }
+/// True when every cell is a voxel whose 8 points are the corners of the box its index describes
+/// (Enclosure::box), bit for bit.
+bool points_match_boxes(vtkUnstructuredGrid* g, const Enclosure& enc) {
+  vtkCellArray* cells = g->GetCells();
+  vtkPoints* pts = g->GetPoints();
+  RoundingScope scope;
+  auto ids = vtkSmartPointer<vtkIdList>::New();
+  for (vtkIdType i = 0; i < g->GetNumberOfCells(); ++i) {
+    if (g->GetCellType(i) != VTK_VOXEL) return false;
+    cells->GetCellAtId(i, ids);
+    const Box3 box = enc.box(enc.cells[static_cast<std::size_t>(i)]);
+    for (int k = 0; k < 8; ++k) {
+      double q[3];
+      pts->GetPoint(ids->GetId(k), q);
+      if (q[0] != ((k & 1) ? box.hi.x : box.lo.x) || q[1] != ((k & 2) ? box.hi.y : box.lo.y) ||
+          q[2] != ((k & 4) ? box.hi.z : box.lo.z)) {
+        return false;
       }
     }
   }
+  return true;
+}
+
+}  // namespace
+
+EnclosureFile read_enclosure_vtu(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    throw Error("cannot read '" + path + "': no such file");
+  }
+  auto reader = vtkSmartPointer<vtkXMLUnstructuredGridReader>::New();
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* g = reader->GetOutput();
+  if (reader->GetErrorCode() != 0 || !g) throw Error("cannot read '" + path + "' as a .vtu file");
+  EnclosureFile out;
+  read_fields(g, path, &out);
+  const EncloseSettings& s = out.info.settings;
+  read_cells(g, path, s.depth + s.refine_possible, &out.enclosure);
+  out.points_match_boxes = points_match_boxes(g, out.enclosure);
   return out;
 }
 

@@ -27,18 +27,35 @@ std::string read_file(const std::string& path) {
   return ss.str();
 }
 
+namespace {
+
+/// The directory a file at `path` is created in.
+fs::path directory_of(const fs::path& target) {
+  return target.has_parent_path() ? target.parent_path() : fs::path(".");
+}
+
+}  // namespace
+
+void check_writable(const std::string& path, const std::string& prefix) {
+  const fs::path dir = directory_of(path);
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    throw Error(prefix + "cannot write '" + path + "': directory '" + dir.string() +
+                "' does not exist");
+  }
+  if (::access(dir.c_str(), W_OK) != 0) {
+    throw Error(prefix + "cannot write '" + path + "': directory '" + dir.string() +
+                "' is not writable");
+  }
+}
+
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string&)>& write) {
   if (path.empty()) throw Error("empty output path");
+  check_writable(path);
   const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const fs::path dir = directory_of(target);
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) {
-    throw Error("cannot write '" + path + "': directory '" + dir.string() + "' does not exist");
-  }
-  if (::access(dir.c_str(), W_OK) != 0) {
-    throw Error("cannot write '" + path + "': directory '" + dir.string() + "' is not writable");
-  }
   if (fs::is_directory(target, ec)) throw Error("cannot write '" + path + "': it is a directory");
   // Keep the extension last: some writers (VTK, OpenMesh) choose the format from it.
   // Built with append rather than "." + ...: GCC 12 warns falsely (-Wrestrict, PR 105651).

@@ -12,6 +12,11 @@ namespace iaa::app {
 /// Reads a whole file; throws iaa::Error naming the path when it cannot.
 std::string read_file(const std::string& path);
 
+/// Throws iaa::Error when `path` cannot be created because its directory does not exist or is
+/// not writable, so that a command can fail before its work rather than after it. The message is
+/// `prefix` (e.g. the option's name, "--vtk: ") then "cannot write 'PATH': directory 'DIR' ...".
+void check_writable(const std::string& path, const std::string& prefix = "");
+
 /// Calls write(tmp_path) to produce the file, then renames tmp_path to `path`. On any exception
 /// the temporary file is removed and the exception propagates. Fails early, with a message naming
 /// the path, when the target directory does not exist or is not writable.

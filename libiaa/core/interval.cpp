@@ -71,10 +71,10 @@ class LibmNearest {
  public:
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
   // LDMXCSR reads memory and cannot take a value from the store buffer: loading a control word
-  // stored just before (as _mm_setcsr does) waits for that store to be written, and in some
-  // memory layouts that wait made exp() 1.6x slower. So both words loaded here were written
-  // long before: the nearest-mode word is kept per thread (rewritten only when the caller's
-  // control bits change), the caller's word at construction.
+  // stored just before (as _mm_setcsr does) waits for that store to be written, which in some
+  // memory layouts is slow (docs/eval.md). So both words loaded here were written long before:
+  // the nearest-mode word is kept per thread (rewritten only when the caller's control bits
+  // change), the caller's word at construction.
   LibmNearest() {
     asm volatile("stmxcsr %0" : "=m"(saved_) : : "memory");
     thread_local unsigned nearest = 0, control_of_nearest = ~0u;

@@ -107,7 +107,7 @@ class TapeLoop {
       Num& o = s[i];
       // `m` is empty, or the slot's mask for a mode that uses masks. Forced inline: with the
       // eight mask copies below GCC otherwise keeps the step (and the rules in it) out of line,
-      // which made the render slower although it ran fewer instructions.
+      // which is slower even though it runs fewer instructions (docs/eval.md).
       const auto step = [&](auto... m) __attribute__((always_inline)) {
         switch (in.op) {
           case Op::kAdd:

@@ -2,9 +2,7 @@
 // over in a table is an unknown key and an error that names it.
 #include "io/scene_toml.h"
 
-#include <algorithm>
 #include <cmath>
-#include <deque>
 #include <set>
 #include <sstream>
 #include <string>
@@ -12,8 +10,7 @@
 #include <toml++/toml.h>
 
 #include "core/error.h"
-#include "expr/eval_interval.h"
-#include "expr/eval_point.h"
+#include "scene/scene.h"
 
 namespace iaa {
 
@@ -144,70 +141,6 @@ class TableReader {
   std::set<std::string> used_;
 };
 
-/// Sub-boxes per axis of the first grid of undefined_everywhere, and how many boxes it may
-/// evaluate in all before it gives up (a few milliseconds for a long tape).
-constexpr int kDomainGrid = 8;
-constexpr long kDomainBudget = 50000;
-
-/// Proves that f is undefined (NaN) at every point of `b`: the number of boxes whose empty
-/// interval values cover `b`, or 0 when f is defined somewhere or no proof was found in the
-/// budget. A box's interval value is empty only when f is undefined at all of its points, so a
-/// cover of empty boxes is a proof; a finite value at any point disproves it at once. The box is
-/// cut into a kDomainGrid^3 grid, then every box that is neither empty nor shown defined at its
-/// centre is halved on all axes, breadth first (one interval evaluation over the whole box misses
-/// `sqrt(x - x - 1)`, whose interval over a box wider than 1 reaches above 0).
-long undefined_everywhere(const Tape& tape, const Box3& b) {
-  PointEval pe(tape);
-  IntervalEval ie(tape);
-  // Grid edges in round-to-nearest: neighbours share one edge value, the last is b.hi, so the
-  // sub-boxes cover b exactly.
-  double edge[3][kDomainGrid + 1];
-  for (int a = 0; a < 3; ++a) {
-    for (int i = 0; i < kDomainGrid; ++i) {
-      edge[a][i] = std::min(b.hi[a], b.lo[a] + (b.hi[a] - b.lo[a]) * i / kDomainGrid);
-    }
-    edge[a][kDomainGrid] = b.hi[a];
-  }
-  std::deque<Box3> open;
-  for (int i = 0; i < kDomainGrid; ++i) {
-    for (int j = 0; j < kDomainGrid; ++j) {
-      for (int k = 0; k < kDomainGrid; ++k) {
-        open.push_back(Box3{{edge[0][i], edge[1][j], edge[2][k]},
-                            {edge[0][i + 1], edge[1][j + 1], edge[2][k + 1]}});
-      }
-    }
-  }
-  // Point samples first: for most expressions the first centre is finite and that settles it.
-  for (const Box3& c : open) {
-    if (std::isfinite(pe.eval(c.center()))) return 0;
-  }
-  for (int a = 0; a < 3; ++a) {
-    if (std::isfinite(pe.eval(a == 0 ? b.lo : a == 1 ? b.hi : b.center()))) return 0;
-  }
-  long empty = 0, evaluated = 0;
-  while (!open.empty()) {
-    if (++evaluated > kDomainBudget) return 0;
-    const Box3 c = open.front();
-    open.pop_front();
-    if (ie.eval(c).is_empty()) {
-      ++empty;
-      continue;
-    }
-    const Vec3 m = c.center();
-    if (std::isfinite(pe.eval(m))) return 0;
-    // Halve on every axis; a box too small to split (m equal to an end) stays unproved.
-    for (int a = 0; a < 3; ++a) {
-      if (!(c.lo[a] < m[a] && m[a] < c.hi[a])) return 0;
-    }
-    for (int q = 0; q < 8; ++q) {
-      Box3 h = c;
-      for (int a = 0; a < 3; ++a) (((q >> a) & 1) ? h.lo : h.hi)[a] = m[a];
-      open.push_back(h);
-    }
-  }
-  return empty;
-}
-
 /// Parses an override's value as TOML, or takes it as a string when it is not valid TOML.
 void apply_override(toml::table& root, const SceneOverride& o, const std::string& source) {
   if (o.key.empty()) throw Error("--set: empty key");
@@ -238,6 +171,170 @@ void apply_override(toml::table& root, const SceneOverride& o, const std::string
   t->insert_or_assign(parts.back(), *value_doc.get("v"));
 }
 
+/// The scene's name: the `name` key, else the file name without directory and extension.
+std::string read_name(TableReader& top, const std::string& source) {
+  std::string name = top.string("name", "");
+  if (name.empty()) {
+    name = source;
+    if (auto p = name.find_last_of('/'); p != std::string::npos) name = name.substr(p + 1);
+    if (auto p = name.rfind('.'); p != std::string::npos && p > 0) name = name.substr(0, p);
+  }
+  return name;
+}
+
+/// surface.params: finite numbers under names that are not reserved by the expression language.
+Params read_params(TableReader& r, const std::string& source) {
+  Params params;
+  const toml::table* pt = r.table("params");
+  if (!pt) return params;
+  for (const auto& [k, v] : *pt) {
+    const std::string name(k.str());
+    double d = 0;
+    if (auto i = v.value_exact<int64_t>()) {
+      d = static_cast<double>(*i);
+    } else if (auto f = v.value_exact<double>()) {
+      d = *f;
+    } else {
+      throw Error(source + ": key 'surface.params." + name + "': expected a number");
+    }
+    if (!std::isfinite(d))
+      throw Error(source + ": key 'surface.params." + name + "': must be finite");
+    if (is_reserved_name(name)) {
+      throw Error(source + ": key 'surface.params." + name + "': '" + name +
+                  "' is a reserved name (x y z pi e or a function)");
+    }
+    params[name] = d;
+  }
+  return params;
+}
+
+/// surface.min and surface.max: a box with volume.
+Box3 read_bounds(TableReader& r) {
+  if (!r.has("min")) r.fail("min", "missing: the bounding box's low corner [x, y, z]");
+  if (!r.has("max")) r.fail("max", "missing: the bounding box's high corner [x, y, z]");
+  Box3 b;
+  b.lo = r.vec3("min", {}, -1e6, 1e6);
+  b.hi = r.vec3("max", {}, -1e6, 1e6);
+  for (int i = 0; i < 3; ++i) {
+    if (!(b.lo[i] < b.hi[i])) r.fail("max", "the box is empty: max must exceed min on every axis");
+  }
+  return b;
+}
+
+/// The compiled expression. A surface undefined everywhere in the box can show nothing, so it is
+/// an error here rather than an empty picture later (scene.h's validate_surface). The errors of
+/// both steps name the file and the key.
+std::shared_ptr<const Tape> compile_surface(const Scene& s, const std::string& source) {
+  std::shared_ptr<const Tape> tape;
+  try {
+    tape = std::make_shared<const Tape>(Tape::parse(s.expression, s.params));
+  } catch (const ParseError& e) {
+    throw ParseError(source + ": key 'surface.expression': " + e.bare_message(), e.line(),
+                     e.column());
+  }
+  try {
+    validate_surface(*tape, s.bounds);
+  } catch (const Error& e) {
+    throw Error(source + ": key 'surface.expression': " + e.what());
+  }
+  return tape;
+}
+
+/// [surface], which every scene has: the expression, its parameters and the bounds.
+void read_surface(const toml::table* surf, const std::string& source, Scene* s) {
+  if (!surf) throw Error(source + ": missing table [surface] with the expression and bounds");
+  TableReader r(*surf, "surface.", source);
+  if (!r.has("expression")) r.fail("expression", "missing: the surface f(x,y,z) as a string");
+  s->expression = r.string("expression", "");
+  s->params = read_params(r, source);
+  s->bounds = read_bounds(r);
+  r.check_unknown();
+  s->tape = compile_surface(*s, source);
+}
+
+/// [camera]: eye, look_at, up and fov over the defaults, then checked as a whole.
+void read_camera(const toml::table& cam, const std::string& source, Camera* c) {
+  TableReader r(cam, "camera.", source);
+  c->eye = r.vec3("eye", c->eye);
+  c->look_at = r.vec3("look_at", c->look_at);
+  c->up = r.vec3("up", c->up);
+  c->fov_deg = r.number("fov", c->fov_deg, kMinFov, kMaxFov);
+  r.check_unknown();
+  try {
+    validate_camera(*c);
+  } catch (const Error& e) {
+    throw Error(source + ": [camera]: " + e.what());
+  }
+}
+
+/// [image]: size and background colour; the pixel count is bounded as well as each edge.
+void read_image(const toml::table& img, const std::string& source, Scene* s) {
+  TableReader r(img, "image.", source);
+  s->width = r.integer("width", s->width, 1, kMaxEdge);
+  s->height = r.integer("height", s->height, 1, kMaxEdge);
+  s->background = r.vec3("background", s->background, 0.0, 1.0);
+  if (static_cast<long long>(s->width) * s->height > kMaxPixels) {
+    r.fail("height", "image too large (" + std::to_string(s->width) + "x" +
+                         std::to_string(s->height) + "; at most " + std::to_string(kMaxPixels) +
+                         " pixels)");
+  }
+  r.check_unknown();
+}
+
+/// [material]: the Phong coefficients over the defaults.
+void read_material(const toml::table& mat, const std::string& source, Material* m) {
+  TableReader r(mat, "material.", source);
+  m->color = r.vec3("color", m->color, 0.0, 1.0);
+  m->ambient = r.number("ambient", m->ambient, 0.0, 1.0);
+  m->diffuse = r.number("diffuse", m->diffuse, 0.0, 1.0);
+  m->specular = r.number("specular", m->specular, 0.0, 1.0);
+  m->shininess = r.number("shininess", m->shininess, 1.0, 10000.0);
+  r.check_unknown();
+}
+
+/// [[light]]: each light needs a position; a scene without lights gets one default light.
+std::vector<PointLight> read_lights(TableReader& top, const std::string& source) {
+  std::vector<PointLight> lights;
+  if (const toml::node* ln = top.get("light")) {
+    const toml::array* arr = ln->as_array();
+    if (!arr || !arr->is_array_of_tables()) {
+      throw Error(source + ": key 'light': expected an array of tables [[light]]");
+    }
+    int i = 0;
+    for (const toml::node& e : *arr) {
+      TableReader r(*e.as_table(), "light[" + std::to_string(i++) + "].", source);
+      PointLight l;
+      if (!r.has("position")) r.fail("position", "missing: where the light is [x, y, z]");
+      l.position = r.vec3("position", l.position);
+      l.color = r.vec3("color", l.color, 0.0, 100.0);
+      r.check_unknown();
+      lights.push_back(l);
+    }
+  }
+  if (lights.empty()) lights.push_back(PointLight{});
+  return lights;
+}
+
+/// [render]: the render settings the scene asks for, over the defaults.
+void read_render(const toml::table& rt, const std::string& source, RenderSettings* st) {
+  TableReader r(rt, "render.", source);
+  if (r.has("method")) {
+    const std::string m = r.string("method", "iaa");
+    try {
+      st->method = parse_method(m, &st->grid_n);
+    } catch (const Error& e) {
+      r.fail("method", e.what());
+    }
+  }
+  st->grid_n = r.integer("grid", st->grid_n, 1, RenderSettings::kMaxGrid);
+  st->max_level = r.integer("max_level", st->max_level, 0, RenderSettings::kMaxLevel);
+  st->estimator_threshold = r.number("estimator_threshold", st->estimator_threshold, 0.0, 2.0);
+  st->depth_tolerance = r.number("depth_tolerance", st->depth_tolerance, 1e-6, 1e3);
+  st->adaptive_threshold = r.number("adaptive_threshold", st->adaptive_threshold, 0.0, 1.0);
+  st->shadows = r.boolean("shadows", st->shadows);
+  r.check_unknown();
+}
+
 }  // namespace
 
 SceneOverride parse_override(std::string_view text) {
@@ -261,150 +358,17 @@ Scene parse_scene(std::string_view text, std::string_view source_view,
   }
   for (const SceneOverride& o : overrides) apply_override(root, o, source);
 
+  // The tables in a fixed order, so that of several errors the same one is always reported.
   Scene s;
   TableReader top(root, "", source);
-  s.name = top.string("name", "");
-  if (s.name.empty()) {
-    // The file name without directory and extension.
-    std::string n = source;
-    if (auto p = n.find_last_of('/'); p != std::string::npos) n = n.substr(p + 1);
-    if (auto p = n.rfind('.'); p != std::string::npos && p > 0) n = n.substr(0, p);
-    s.name = n;
-  }
+  s.name = read_name(top, source);
   top.string("description", "");
-
-  // [surface]
-  const toml::table* surf = top.table("surface");
-  if (!surf) throw Error(source + ": missing table [surface] with the expression and bounds");
-  {
-    TableReader r(*surf, "surface.", source);
-    if (!r.has("expression")) r.fail("expression", "missing: the surface f(x,y,z) as a string");
-    s.expression = r.string("expression", "");
-    if (const toml::table* pt = r.table("params")) {
-      for (const auto& [k, v] : *pt) {
-        const std::string name(k.str());
-        double d = 0;
-        if (auto i = v.value_exact<int64_t>()) {
-          d = static_cast<double>(*i);
-        } else if (auto f = v.value_exact<double>()) {
-          d = *f;
-        } else {
-          throw Error(source + ": key 'surface.params." + name + "': expected a number");
-        }
-        if (!std::isfinite(d))
-          throw Error(source + ": key 'surface.params." + name + "': must be finite");
-        if (is_reserved_name(name)) {
-          throw Error(source + ": key 'surface.params." + name + "': '" + name +
-                      "' is a reserved name (x y z pi e or a function)");
-        }
-        s.params[name] = d;
-      }
-    }
-    if (!r.has("min")) r.fail("min", "missing: the bounding box's low corner [x, y, z]");
-    if (!r.has("max")) r.fail("max", "missing: the bounding box's high corner [x, y, z]");
-    s.bounds.lo = r.vec3("min", {}, -1e6, 1e6);
-    s.bounds.hi = r.vec3("max", {}, -1e6, 1e6);
-    for (int i = 0; i < 3; ++i) {
-      if (!(s.bounds.lo[i] < s.bounds.hi[i])) {
-        r.fail("max", "the box is empty: max must exceed min on every axis");
-      }
-    }
-    r.check_unknown();
-    try {
-      s.tape = std::make_shared<const Tape>(Tape::parse(s.expression, s.params));
-    } catch (const ParseError& e) {
-      throw ParseError(source + ": key 'surface.expression': " + e.bare_message(), e.line(),
-                       e.column());
-    }
-    // An expression undefined everywhere in the box can show nothing: say so rather than
-    // render an empty picture. Only a proof rejects a surface; one defined anywhere is kept.
-    if (const long boxes = undefined_everywhere(*s.tape, s.bounds); boxes > 0) {
-      throw Error(source +
-                  ": key 'surface.expression': f is undefined (NaN) everywhere in the bounds "
-                  "(proved on " +
-                  std::to_string(boxes) + " sub-boxes); there is no surface to show");
-    }
-  }
-
-  // [camera]
-  if (const toml::table* cam = top.table("camera")) {
-    TableReader r(*cam, "camera.", source);
-    s.camera.eye = r.vec3("eye", s.camera.eye);
-    s.camera.look_at = r.vec3("look_at", s.camera.look_at);
-    s.camera.up = r.vec3("up", s.camera.up);
-    s.camera.fov_deg = r.number("fov", s.camera.fov_deg, kMinFov, kMaxFov);
-    r.check_unknown();
-    try {
-      validate_camera(s.camera);
-    } catch (const Error& e) {
-      throw Error(source + ": [camera]: " + e.what());
-    }
-  }
-
-  // [image]
-  if (const toml::table* img = top.table("image")) {
-    TableReader r(*img, "image.", source);
-    s.width = r.integer("width", s.width, 1, kMaxEdge);
-    s.height = r.integer("height", s.height, 1, kMaxEdge);
-    s.background = r.vec3("background", s.background, 0.0, 1.0);
-    if (static_cast<long long>(s.width) * s.height > kMaxPixels) {
-      r.fail("height", "image too large (" + std::to_string(s.width) + "x" +
-                           std::to_string(s.height) + "; at most " + std::to_string(kMaxPixels) +
-                           " pixels)");
-    }
-    r.check_unknown();
-  }
-
-  // [material]
-  if (const toml::table* mat = top.table("material")) {
-    TableReader r(*mat, "material.", source);
-    s.material.color = r.vec3("color", s.material.color, 0.0, 1.0);
-    s.material.ambient = r.number("ambient", s.material.ambient, 0.0, 1.0);
-    s.material.diffuse = r.number("diffuse", s.material.diffuse, 0.0, 1.0);
-    s.material.specular = r.number("specular", s.material.specular, 0.0, 1.0);
-    s.material.shininess = r.number("shininess", s.material.shininess, 1.0, 10000.0);
-    r.check_unknown();
-  }
-
-  // [[light]]
-  if (const toml::node* ln = top.get("light")) {
-    const toml::array* arr = ln->as_array();
-    if (!arr || !arr->is_array_of_tables()) {
-      throw Error(source + ": key 'light': expected an array of tables [[light]]");
-    }
-    int i = 0;
-    for (const toml::node& e : *arr) {
-      TableReader r(*e.as_table(), "light[" + std::to_string(i++) + "].", source);
-      PointLight l;
-      if (!r.has("position")) r.fail("position", "missing: where the light is [x, y, z]");
-      l.position = r.vec3("position", l.position);
-      l.color = r.vec3("color", l.color, 0.0, 100.0);
-      r.check_unknown();
-      s.lights.push_back(l);
-    }
-  }
-  if (s.lights.empty()) s.lights.push_back(PointLight{});
-
-  // [render]
-  if (const toml::table* rt = top.table("render")) {
-    TableReader r(*rt, "render.", source);
-    RenderSettings& st = s.settings;
-    if (r.has("method")) {
-      const std::string m = r.string("method", "iaa");
-      try {
-        st.method = parse_method(m, &st.grid_n);
-      } catch (const Error& e) {
-        r.fail("method", e.what());
-      }
-    }
-    st.grid_n = r.integer("grid", st.grid_n, 1, RenderSettings::kMaxGrid);
-    st.max_level = r.integer("max_level", st.max_level, 0, RenderSettings::kMaxLevel);
-    st.estimator_threshold = r.number("estimator_threshold", st.estimator_threshold, 0.0, 2.0);
-    st.depth_tolerance = r.number("depth_tolerance", st.depth_tolerance, 1e-6, 1e3);
-    st.adaptive_threshold = r.number("adaptive_threshold", st.adaptive_threshold, 0.0, 1.0);
-    st.shadows = r.boolean("shadows", st.shadows);
-    r.check_unknown();
-  }
+  read_surface(top.table("surface"), source, &s);
+  if (const toml::table* cam = top.table("camera")) read_camera(*cam, source, &s.camera);
+  if (const toml::table* img = top.table("image")) read_image(*img, source, &s);
+  if (const toml::table* mat = top.table("material")) read_material(*mat, source, &s.material);
+  s.lights = read_lights(top, source);
+  if (const toml::table* rt = top.table("render")) read_render(*rt, source, &s.settings);
   top.check_unknown();
   return s;
 }

@@ -80,92 +80,127 @@ struct MethodRow {
   Quality q;
 };
 
-void run(const BenchRenderOptions& o) {
+/// The methods compared, in the order of the table; adaptive is the one the ratios divide by.
+constexpr RenderMethod kMethods[] = {RenderMethod::kIaa, RenderMethod::kAdaptive,
+                                     RenderMethod::kPoint};
+constexpr std::size_t kN = std::size(kMethods);
+constexpr std::size_t kAdaptiveRow = 1;
+
+/// Checks the options, including the render flags' ranges, before any scene is loaded.
+void check_options(const BenchRenderOptions& o) {
   if (o.size < 8 || o.size > 4096) throw SettingError("--size must be in [8, 4096]");
   if (o.runs < 1 || o.runs > 100) throw SettingError("--runs must be in [1, 100]");
   if (o.ref_grid < 1 || o.ref_grid > RenderSettings::kMaxGrid)
     throw SettingError("--ref-grid must be in [1, 64]");
-  {
-    RenderSettings checked;  // the flags' ranges, before any scene is loaded
-    apply_render_flags(o.flags, &checked);
+  RenderSettings checked;
+  apply_render_flags(o.flags, &checked);
+}
+
+/// The scene `name` at the benchmark's image size, with the --set overrides.
+Scene load_bench_scene(const BenchRenderOptions& o, const std::string& dir,
+                       const std::string& name) {
+  std::vector<std::string> sets = o.sets;
+  sets.push_back("image.width=" + std::to_string(o.size));
+  sets.push_back("image.height=" + std::to_string(o.size));
+  return app::load_scene(dir + "/" + name + ".toml", sets);
+}
+
+/// One scene's measurements: a row per method, in kMethods' order.
+struct SceneRows {
+  std::vector<MethodRow> rows;
+  double reference_seconds = 0;  ///< the time of the reference render
+};
+
+/// Renders the reference, then every method `o.runs` times: the median time, evaluations and
+/// leaves per pixel, and quality against the reference.
+SceneRows measure_scene(const BenchRenderOptions& o, const Scene& scene, const Exec& exec) {
+  RenderSettings base = scene.settings;
+  apply_render_flags(o.flags, &base);
+  RenderSettings ref_st = base;
+  ref_st.method = RenderMethod::kGrid;
+  ref_st.grid_n = o.ref_grid;
+  const Film ref = render(scene, ref_st, exec);
+  // The methods take turns, run after run, so that a change of the machine's load during the
+  // benchmark weighs on all of them alike (and on their ratios as little as possible).
+  std::vector<double> times[kN];
+  Film films[kN];
+  for (int r = 0; r < o.runs; ++r) {
+    for (std::size_t i = 0; i < kN; ++i) {
+      RenderSettings st = base;
+      st.method = kMethods[i];
+      films[i] = render(scene, st, exec);
+      times[i].push_back(films[i].seconds);
+    }
   }
+  SceneRows out;
+  out.reference_seconds = ref.seconds;
+  for (std::size_t i = 0; i < kN; ++i) {
+    std::sort(times[i].begin(), times[i].end());
+    const Film& f = films[i];
+    MethodRow row;
+    row.method = std::string(method_name(kMethods[i]));
+    row.median_s = times[i][times[i].size() / 2];
+    const double px = double(f.stats.pixels);
+    row.evals_px = double(f.stats.evals) / px;
+    row.leaves_px = double(f.stats.leaves) / px;
+    row.q = compare(f, ref);
+    out.rows.push_back(row);
+  }
+  return out;
+}
+
+void print_header(const BenchRenderOptions& o, int threads) {
+  std::printf("iaa bench render: %dx%d, %d threads, median of %d runs, reference grid %d\n\n",
+              o.size, o.size, threads, o.runs, o.ref_grid);
+  std::printf("%-11s %-9s %9s %9s %9s %8s %8s %8s %8s %7s %9s\n", "scene", "method", "median s",
+              "evals/px", "leaves/px", "time/ad", "evals/ad", "leaves/ad", "RMSE", "missed",
+              "spurious");
+}
+
+/// Prints one scene's rows and appends their JSON records to `out`. The table shows the ratios
+/// on the iaa row only (the comparison the benchmark is for); the JSON has them for every method.
+void print_rows(const BenchRenderOptions& o, const std::string& name, const SceneRows& scene,
+                int threads, nlohmann::json* out) {
+  const MethodRow& adaptive = scene.rows[kAdaptiveRow];
+  for (const MethodRow& r : scene.rows) {
+    const bool iaa = r.method == "iaa";
+    const std::string t = iaa ? ratio_cell(r.median_s, adaptive.median_s) : "";
+    const std::string e = iaa ? ratio_cell(r.evals_px, adaptive.evals_px) : "";
+    const std::string l = iaa ? ratio_cell(r.leaves_px, adaptive.leaves_px) : "";
+    std::printf("%-11s %-9s %9.3f %9.1f %9.2f %8s %8s %9s %8.4f %7ld %9ld\n", name.c_str(),
+                r.method.c_str(), r.median_s, r.evals_px, r.leaves_px, t.c_str(), e.c_str(),
+                l.c_str(), r.q.rmse, r.q.missed, r.q.spurious);
+    out->push_back({{"scene", name},
+                    {"method", r.method},
+                    {"median_seconds", r.median_s},
+                    {"evals_per_pixel", r.evals_px},
+                    {"leaves_per_pixel", r.leaves_px},
+                    {"time_ratio_vs_adaptive", ratio_json(r.median_s, adaptive.median_s)},
+                    {"evals_ratio_vs_adaptive", ratio_json(r.evals_px, adaptive.evals_px)},
+                    {"leaves_ratio_vs_adaptive", ratio_json(r.leaves_px, adaptive.leaves_px)},
+                    {"rmse", r.q.rmse},
+                    {"missed", r.q.missed},
+                    {"spurious", r.q.spurious},
+                    {"width", o.size},
+                    {"height", o.size},
+                    {"threads", threads},
+                    {"reference", "grid " + std::to_string(o.ref_grid)},
+                    {"reference_seconds", scene.reference_seconds}});
+  }
+  std::fflush(stdout);
+}
+
+void run(const BenchRenderOptions& o) {
+  check_options(o);
   const std::string dir = find_scene_dir(o.dir);
   Exec exec;
   exec.threads = o.threads;
   nlohmann::json out = nlohmann::json::array();
-  std::printf("iaa bench render: %dx%d, %d threads, median of %d runs, reference grid %d\n\n",
-              o.size, o.size, exec.resolved_threads(), o.runs, o.ref_grid);
-  std::printf("%-11s %-9s %9s %9s %9s %8s %8s %8s %8s %7s %9s\n", "scene", "method", "median s",
-              "evals/px", "leaves/px", "time/ad", "evals/ad", "leaves/ad", "RMSE", "missed",
-              "spurious");
+  print_header(o, exec.resolved_threads());
+  // Each scene's rows are printed as soon as they are measured: a long run shows its progress.
   for (const std::string& name : o.scenes) {
-    std::vector<std::string> sets = o.sets;
-    sets.push_back("image.width=" + std::to_string(o.size));
-    sets.push_back("image.height=" + std::to_string(o.size));
-    const Scene scene = app::load_scene(dir + "/" + name + ".toml", sets);
-    RenderSettings base = scene.settings;
-    apply_render_flags(o.flags, &base);
-    RenderSettings ref_st = base;
-    ref_st.method = RenderMethod::kGrid;
-    ref_st.grid_n = o.ref_grid;
-    const Film ref = render(scene, ref_st, exec);
-    // The methods take turns, run after run, so that a change of the machine's load during the
-    // benchmark weighs on all of them alike (and on their ratios as little as possible).
-    constexpr RenderMethod kMethods[] = {RenderMethod::kIaa, RenderMethod::kAdaptive,
-                                         RenderMethod::kPoint};
-    constexpr std::size_t kN = std::size(kMethods);
-    std::vector<double> times[kN];
-    Film films[kN];
-    for (int r = 0; r < o.runs; ++r) {
-      for (std::size_t i = 0; i < kN; ++i) {
-        RenderSettings st = base;
-        st.method = kMethods[i];
-        films[i] = render(scene, st, exec);
-        times[i].push_back(films[i].seconds);
-      }
-    }
-    std::vector<MethodRow> rows;
-    for (std::size_t i = 0; i < kN; ++i) {
-      std::sort(times[i].begin(), times[i].end());
-      const Film& f = films[i];
-      MethodRow row;
-      row.method = std::string(method_name(kMethods[i]));
-      row.median_s = times[i][times[i].size() / 2];
-      const double px = double(f.stats.pixels);
-      row.evals_px = double(f.stats.evals) / px;
-      row.leaves_px = double(f.stats.leaves) / px;
-      row.q = compare(f, ref);
-      rows.push_back(row);
-    }
-    const MethodRow& adaptive = rows[1];
-    for (const MethodRow& r : rows) {
-      // The table shows the ratios on the iaa row only (the comparison the benchmark is for);
-      // the JSON has them for every method.
-      const bool iaa = r.method == "iaa";
-      const std::string t = iaa ? ratio_cell(r.median_s, adaptive.median_s) : "";
-      const std::string e = iaa ? ratio_cell(r.evals_px, adaptive.evals_px) : "";
-      const std::string l = iaa ? ratio_cell(r.leaves_px, adaptive.leaves_px) : "";
-      std::printf("%-11s %-9s %9.3f %9.1f %9.2f %8s %8s %9s %8.4f %7ld %9ld\n", name.c_str(),
-                  r.method.c_str(), r.median_s, r.evals_px, r.leaves_px, t.c_str(), e.c_str(),
-                  l.c_str(), r.q.rmse, r.q.missed, r.q.spurious);
-      out.push_back({{"scene", name},
-                     {"method", r.method},
-                     {"median_seconds", r.median_s},
-                     {"evals_per_pixel", r.evals_px},
-                     {"leaves_per_pixel", r.leaves_px},
-                     {"time_ratio_vs_adaptive", ratio_json(r.median_s, adaptive.median_s)},
-                     {"evals_ratio_vs_adaptive", ratio_json(r.evals_px, adaptive.evals_px)},
-                     {"leaves_ratio_vs_adaptive", ratio_json(r.leaves_px, adaptive.leaves_px)},
-                     {"rmse", r.q.rmse},
-                     {"missed", r.q.missed},
-                     {"spurious", r.q.spurious},
-                     {"width", o.size},
-                     {"height", o.size},
-                     {"threads", exec.resolved_threads()},
-                     {"reference", "grid " + std::to_string(o.ref_grid)},
-                     {"reference_seconds", ref.seconds}});
-    }
-    std::fflush(stdout);
+    const Scene scene = load_bench_scene(o, dir, name);
+    print_rows(o, name, measure_scene(o, scene, exec), exec.resolved_threads(), &out);
   }
   std::printf(
       "\ntime/ad, evals/ad, leaves/ad: iaa's median time, evaluations and leaves per pixel over\n"

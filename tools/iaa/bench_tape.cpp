@@ -93,83 +93,105 @@ void check_native(const Surface& s, const Scene& scene) {
   }
 }
 
-void run(const Options& o) {
-  // The scenes are read and checked before anything is measured.
+/// Reads the scenes of kSurfaces and checks their native code, before anything is measured.
+std::vector<Scene> load_scenes(const Options& o) {
   const std::string dir = find_scene_dir(o.scene_dir);
   std::vector<Scene> scenes;
   for (const Surface& s : kSurfaces) {
     scenes.push_back(app::load_scene(dir + "/" + s.scene + ".toml"));
     check_native(s, scenes.back());
   }
-  nlohmann::json out = nlohmann::json::array();
+  return scenes;
+}
+
+/// Median seconds of one batch of evaluations, per evaluator.
+struct Times {
+  double native = 0, point = 0, interval = 0, point_grad = 0, interval_grad = 0;
+};
+
+/// A box of edge 1e-2 at each point, as the interval evaluators see one.
+IBox box_at(const Vec3& p) {
+  return IBox(Interval(p.x, p.x + 1e-2), Interval(p.y, p.y + 1e-2), Interval(p.z, p.z + 1e-2));
+}
+
+/// Times every evaluator on the same points; each sums its results into g_sink so that the
+/// compiler cannot drop the work.
+Times measure(const Surface& s, const Tape& tape, const std::vector<Vec3>& pts, int runs) {
+  PointEval pe(tape);
+  IntervalEval ie(tape);
+  PointGradEval pg(tape);
+  IntervalGradEval ig(tape);
+  Times t;
+  t.native = median_seconds(runs, [&] {
+    double acc = 0;
+    for (const Vec3& p : pts) acc += s.native(p.x, p.y, p.z);
+    g_sink = acc;
+  });
+  t.point = median_seconds(runs, [&] {
+    double acc = 0;
+    for (const Vec3& p : pts) acc += pe.eval(p);
+    g_sink = acc;
+  });
+  t.interval = median_seconds(runs, [&] {
+    RoundingScope scope;  // once per batch, as the renderer does per tile
+    double acc = 0;
+    for (const Vec3& p : pts) acc += ie.eval(box_at(p)).hi();
+    g_sink = acc;
+  });
+  t.point_grad = median_seconds(runs, [&] {
+    double acc = 0;
+    for (const Vec3& p : pts) acc += pg.eval(p).g.x;
+    g_sink = acc;
+  });
+  t.interval_grad = median_seconds(runs, [&] {
+    RoundingScope scope;
+    double acc = 0;
+    for (const Vec3& p : pts) acc += ig.eval(box_at(p)).g[0].hi();
+    g_sink = acc;
+  });
+  return t;
+}
+
+void print_header() {
   std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %s\n", "surface", "ops", "native", "point",
               "interval", "pt+grad", "iv+grad", "iv/point", "target");
   std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  <= %gx\n", "", "", "ns/op", "ns/op",
               "ns/op", "ns/op", "ns/op", "ratio", kIntervalOverPointTarget);
+}
+
+/// Prints the line of one surface and returns its JSON record; times become ns per operation.
+nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const Options& o) {
+  const double ops = static_cast<double>(tape.op_count()) * o.points;
+  const auto ns = [&](double sec) { return sec * 1e9 / ops; };
+  const double ratio = t.interval / t.point;
+  const bool within = ratio <= kIntervalOverPointTarget;
+  std::printf("%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %s\n", s.scene,
+              tape.op_count(), ns(t.native), ns(t.point), ns(t.interval), ns(t.point_grad),
+              ns(t.interval_grad), ratio, within ? "within" : "MISSED");
+  return {{"surface", s.scene},
+          {"tape_ops", tape.op_count()},
+          {"evaluations", o.points},
+          {"runs", o.runs},
+          {"ns_per_op",
+           {{"native_double", ns(t.native)},
+            {"point", ns(t.point)},
+            {"interval", ns(t.interval)},
+            {"point_grad", ns(t.point_grad)},
+            {"interval_grad", ns(t.interval_grad)}}},
+          {"interval_over_point", ratio},
+          {"interval_over_point_target", kIntervalOverPointTarget},
+          {"within_target", within}};
+}
+
+void run(const Options& o) {
+  const std::vector<Scene> scenes = load_scenes(o);
+  nlohmann::json out = nlohmann::json::array();
+  print_header();
   for (std::size_t i = 0; i < scenes.size(); ++i) {
-    const Surface& s = kSurfaces[i];
     const Tape& tape = *scenes[i].tape;
     const std::vector<Vec3> pts = sample_points(scenes[i].bounds, o.points);
-    const double ops = static_cast<double>(tape.op_count()) * o.points;
-
-    PointEval pe(tape);
-    IntervalEval ie(tape);
-    PointGradEval pg(tape);
-    IntervalGradEval ig(tape);
-    const double t_native = median_seconds(o.runs, [&] {
-      double acc = 0;
-      for (const Vec3& p : pts) acc += s.native(p.x, p.y, p.z);
-      g_sink = acc;
-    });
-    const double t_point = median_seconds(o.runs, [&] {
-      double acc = 0;
-      for (const Vec3& p : pts) acc += pe.eval(p);
-      g_sink = acc;
-    });
-    const double t_interval = median_seconds(o.runs, [&] {
-      RoundingScope scope;  // once per batch, as the renderer does per tile
-      double acc = 0;
-      for (const Vec3& p : pts) {
-        const IBox b(Interval(p.x, p.x + 1e-2), Interval(p.y, p.y + 1e-2),
-                     Interval(p.z, p.z + 1e-2));
-        acc += ie.eval(b).hi();
-      }
-      g_sink = acc;
-    });
-    const double t_pgrad = median_seconds(o.runs, [&] {
-      double acc = 0;
-      for (const Vec3& p : pts) acc += pg.eval(p).g.x;
-      g_sink = acc;
-    });
-    const double t_igrad = median_seconds(o.runs, [&] {
-      RoundingScope scope;
-      double acc = 0;
-      for (const Vec3& p : pts) {
-        const IBox b(Interval(p.x, p.x + 1e-2), Interval(p.y, p.y + 1e-2),
-                     Interval(p.z, p.z + 1e-2));
-        acc += ig.eval(b).g[0].hi();
-      }
-      g_sink = acc;
-    });
-    const auto ns = [&](double t) { return t * 1e9 / ops; };
-    const double ratio = t_interval / t_point;
-    const bool within = ratio <= kIntervalOverPointTarget;
-    std::printf("%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %s\n", s.scene,
-                tape.op_count(), ns(t_native), ns(t_point), ns(t_interval), ns(t_pgrad),
-                ns(t_igrad), ratio, within ? "within" : "MISSED");
-    out.push_back({{"surface", s.scene},
-                   {"tape_ops", tape.op_count()},
-                   {"evaluations", o.points},
-                   {"runs", o.runs},
-                   {"ns_per_op",
-                    {{"native_double", ns(t_native)},
-                     {"point", ns(t_point)},
-                     {"interval", ns(t_interval)},
-                     {"point_grad", ns(t_pgrad)},
-                     {"interval_grad", ns(t_igrad)}}},
-                   {"interval_over_point", ratio},
-                   {"interval_over_point_target", kIntervalOverPointTarget},
-                   {"within_target", within}});
+    const Times t = measure(kSurfaces[i], tape, pts, o.runs);
+    out.push_back(report(kSurfaces[i], tape, t, o));
   }
   std::printf(
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"

@@ -1,12 +1,9 @@
 // `iaa enclose`: the guaranteed enclosure octree of a surface (libiaa/enclose/octree.h), written
 // as a .vtu of voxels (viz/enclosure_vtk.h) and summarised on stdout and in a JSON report.
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <memory>
 
@@ -98,7 +95,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-void run(const EncloseOptions& o) {
+/// Everything that can be checked before the surface is read: which inputs were given, the
+/// thread count, and the outputs, so that a command fails before its work rather than after it.
+void check_options(const EncloseOptions& o) {
   if (o.scene.empty() && o.expr.empty()) {
     throw Error("no surface: give a SCENE file or --expr EXPR --bounds X0:X1,Y0:Y1,Z0:Z1");
   }
@@ -128,39 +127,46 @@ void run(const EncloseOptions& o) {
   if (!o.output.empty() && app::extension_of(o.output) != "vtu") {
     throw Error("-o: the output must be a .vtu file, got '" + o.output + "'");
   }
-  // Fail before the work, not after it, when an output cannot be written.
   for (const std::string* out : {&o.output, &o.report}) {
-    if (out->empty()) continue;
-    const std::filesystem::path target(*out);
-    const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) {
-      throw Error("cannot write '" + *out + "': directory '" + dir.string() + "' does not exist");
-    }
-    if (::access(dir.c_str(), W_OK) != 0) {
-      throw Error("cannot write '" + *out + "': directory '" + dir.string() + "' is not writable");
-    }
+    if (!out->empty()) app::check_writable(*out);
   }
+}
+
+/// The surface to enclose and the box to enclose it in.
+struct Surface {
   std::string expression;
   std::shared_ptr<const Tape> tape;
-  EncloseSettings s;
+  Box3 bounds;
+};
+
+/// Reads the surface from the scene file (with its --set overrides) or from --expr and --param;
+/// --bounds, when given, replaces a scene's bounds.
+Surface load_surface(const EncloseOptions& o) {
+  Surface surface;
   if (!o.scene.empty()) {
     const Scene scene = app::load_scene(o.scene, o.sets);
-    expression = scene.expression;
-    tape = scene.tape;
-    s.bounds = o.bounds.empty() ? scene.bounds : parse_bounds(o.bounds);
+    surface.expression = scene.expression;
+    surface.tape = scene.tape;
+    surface.bounds = o.bounds.empty() ? scene.bounds : parse_bounds(o.bounds);
   } else {
-    expression = o.expr;
-    tape = std::make_shared<const Tape>(Tape::parse(expression, parse_params(o.params)));
-    s.bounds = parse_bounds(o.bounds);
+    surface.expression = o.expr;
+    surface.tape = std::make_shared<const Tape>(Tape::parse(o.expr, parse_params(o.params)));
+    surface.bounds = parse_bounds(o.bounds);
   }
+  return surface;
+}
+
+/// The octree's settings from the options, validated; an error names the command-line option
+/// rather than the library's setting.
+EncloseSettings make_settings(const EncloseOptions& o, const Box3& bounds) {
+  EncloseSettings s;
+  s.bounds = bounds;
   s.depth = o.cell_size_given ? depth_for_cell_size(s.bounds, o.cell_size) : o.depth;
   s.refine_possible = o.refine_possible;
   s.max_boxes = o.max_boxes;
   try {
     s.validate();
   } catch (const SettingError& e) {
-    // Name the command-line options rather than the library's setting names.
     std::string m = e.what();
     for (auto [from, to] :
          {std::pair{"refine_possible", "--refine-possible"}, std::pair{"max_boxes", "--max-boxes"},
@@ -169,15 +175,14 @@ void run(const EncloseOptions& o) {
     }
     throw SettingError(m);
   }
+  return s;
+}
 
-  app::ProgressBar bar(o.quiet);
-  Exec exec;
-  exec.threads = o.threads;
-  exec.progress = &bar;
-  const auto t0 = std::chrono::steady_clock::now();
-  Enclosure enc;
+/// Runs the octree. Running out of boxes is the one failure a user meets in practice, so its
+/// message says which options produced it and which to change.
+Enclosure run_octree(const Tape& tape, const EncloseSettings& s, const Exec& exec) {
   try {
-    enc = enclose(*tape, s, exec);
+    return enclose(tape, s, exec);
   } catch (const SettingError& e) {
     std::string m = e.what();
     if (m.rfind("max_boxes", 0) == 0) {
@@ -188,25 +193,34 @@ void run(const EncloseOptions& o) {
     }
     throw SettingError(m);
   }
-  const double t_enclose = seconds_since(t0);
+}
 
-  double t_write = 0;
+/// Wall-clock seconds of the two parts of the command.
+struct Times {
+  double enclose = 0;
+  double write = 0;
+};
+
 #ifdef IAA_HAVE_VIZ
-  if (!o.output.empty()) {
-    const auto t1 = std::chrono::steady_clock::now();
-    app::write_atomically(o.output, [&](const std::string& tmp) {
-      exec.run([&] {
-        viz::write_enclosure_vtu(tmp, enc, viz::EnclosureInfo{expression, s}, &bar);
-      });
+/// Writes the boxes to `path` atomically (in `exec`'s threads); returns the seconds it took.
+double write_vtu(const std::string& path, const Surface& surface, const EncloseSettings& s,
+                 const Enclosure& enc, const Exec& exec, app::ProgressBar* bar) {
+  const auto t0 = std::chrono::steady_clock::now();
+  app::write_atomically(path, [&](const std::string& tmp) {
+    exec.run([&] {
+      viz::write_enclosure_vtu(tmp, enc, viz::EnclosureInfo{surface.expression, s}, bar);
     });
-    t_write = seconds_since(t1);
-  }
+  });
+  return seconds_since(t0);
+}
 #endif
 
-  const std::uint64_t crossing = enc.count(CellClass::kCrossing);
-  const std::uint64_t possible = enc.count(CellClass::kPossible);
+/// The summary on stdout: the surface, the settings, the boxes per class (and per depth when
+/// possible cells were refined), the evaluations, the time and what was written.
+void print_summary(const EncloseOptions& o, const Surface& surface, const EncloseSettings& s,
+                   const Enclosure& enc, const Times& t, int threads) {
   const Vec3 cell = s.bounds.size() / std::ldexp(1.0, s.depth);
-  std::printf("expression   %s\n", expression.c_str());
+  std::printf("expression   %s\n", surface.expression.c_str());
   std::printf("bounds       [%s, %s] x [%s, %s] x [%s, %s]\n", fmt(s.bounds.lo.x).c_str(),
               fmt(s.bounds.hi.x).c_str(), fmt(s.bounds.lo.y).c_str(), fmt(s.bounds.hi.y).c_str(),
               fmt(s.bounds.lo.z).c_str(), fmt(s.bounds.hi.z).c_str());
@@ -216,7 +230,8 @@ void run(const EncloseOptions& o) {
   std::printf("\n");
   std::printf("boxes        %llu: %llu crossing (certified surface), %llu possible\n",
               static_cast<unsigned long long>(enc.cells.size()),
-              static_cast<unsigned long long>(crossing), static_cast<unsigned long long>(possible));
+              static_cast<unsigned long long>(enc.count(CellClass::kCrossing)),
+              static_cast<unsigned long long>(enc.count(CellClass::kPossible)));
   for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
     const auto& c = enc.counts_by_depth[d];
     if (s.refine_possible && c[0] + c[1] > 0) {
@@ -230,42 +245,64 @@ void run(const EncloseOptions& o) {
       static_cast<unsigned long long>(enc.evaluations),
       static_cast<unsigned long long>(enc.corner_evaluations),
       static_cast<unsigned long long>(enc.expansion_signs));
-  std::printf("time         %.3f s enclose", t_enclose);
-  if (!o.output.empty()) std::printf(", %.3f s write", t_write);
-  std::printf(" (%d threads)\n", exec.resolved_threads());
+  std::printf("time         %.3f s enclose", t.enclose);
+  if (!o.output.empty()) std::printf(", %.3f s write", t.write);
+  std::printf(" (%d threads)\n", threads);
   if (enc.cells.empty()) {
     std::printf(
         "result       certified empty: 0 is outside F on every cell, so f = 0 has no point "
         "in the bounds\n");
   }
   if (!o.output.empty()) std::printf("wrote        %s\n", o.output.c_str());
+}
 
-  if (!o.report.empty()) {
-    nlohmann::json j;
-    j["expression"] = expression;
-    j["bounds"] = {{s.bounds.lo.x, s.bounds.hi.x},
-                   {s.bounds.lo.y, s.bounds.hi.y},
-                   {s.bounds.lo.z, s.bounds.hi.z}};
-    j["settings"] = {
-        {"depth", s.depth}, {"refine_possible", s.refine_possible}, {"max_boxes", s.max_boxes}};
-    j["threads"] = exec.resolved_threads();
-    j["boxes"] = enc.cells.size();
-    j["crossing"] = crossing;
-    j["possible"] = possible;
-    nlohmann::json by = nlohmann::json::array();
-    for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
-      const auto& c = enc.counts_by_depth[d];
-      if (c[0] + c[1] > 0) by.push_back({{"depth", d}, {"crossing", c[0]}, {"possible", c[1]}});
-    }
-    j["by_depth"] = by;
-    j["evaluations"] = enc.evaluations;
-    j["corner_evaluations"] = enc.corner_evaluations;
-    j["expansion_signs"] = enc.expansion_signs;
-    j["time_s"] = {{"enclose", t_enclose}, {"write", t_write}};
-    if (!o.output.empty()) j["output"] = o.output;
-    app::write_text_atomically(o.report, j.dump(2) + "\n");
-    std::printf("report       %s\n", o.report.c_str());
+/// The --report JSON: the same figures as the summary, with the counts of every depth.
+void write_report(const EncloseOptions& o, const Surface& surface, const EncloseSettings& s,
+                  const Enclosure& enc, const Times& t, int threads) {
+  nlohmann::json j;
+  j["expression"] = surface.expression;
+  j["bounds"] = {{s.bounds.lo.x, s.bounds.hi.x},
+                 {s.bounds.lo.y, s.bounds.hi.y},
+                 {s.bounds.lo.z, s.bounds.hi.z}};
+  j["settings"] = {
+      {"depth", s.depth}, {"refine_possible", s.refine_possible}, {"max_boxes", s.max_boxes}};
+  j["threads"] = threads;
+  j["boxes"] = enc.cells.size();
+  j["crossing"] = enc.count(CellClass::kCrossing);
+  j["possible"] = enc.count(CellClass::kPossible);
+  nlohmann::json by = nlohmann::json::array();
+  for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
+    const auto& c = enc.counts_by_depth[d];
+    if (c[0] + c[1] > 0) by.push_back({{"depth", d}, {"crossing", c[0]}, {"possible", c[1]}});
   }
+  j["by_depth"] = by;
+  j["evaluations"] = enc.evaluations;
+  j["corner_evaluations"] = enc.corner_evaluations;
+  j["expansion_signs"] = enc.expansion_signs;
+  j["time_s"] = {{"enclose", t.enclose}, {"write", t.write}};
+  if (!o.output.empty()) j["output"] = o.output;
+  app::write_text_atomically(o.report, j.dump(2) + "\n");
+  std::printf("report       %s\n", o.report.c_str());
+}
+
+void run(const EncloseOptions& o) {
+  check_options(o);
+  const Surface surface = load_surface(o);
+  const EncloseSettings s = make_settings(o, surface.bounds);
+  // The bar lives until the end: the .vtu write reports to it as well.
+  app::ProgressBar bar(o.quiet);
+  Exec exec;
+  exec.threads = o.threads;
+  exec.progress = &bar;
+  Times t;
+  const auto t0 = std::chrono::steady_clock::now();
+  const Enclosure enc = run_octree(*surface.tape, s, exec);
+  t.enclose = seconds_since(t0);
+#ifdef IAA_HAVE_VIZ
+  if (!o.output.empty()) t.write = write_vtu(o.output, surface, s, enc, exec, &bar);
+#endif
+  print_summary(o, surface, s, enc, t, exec.resolved_threads());
+  if (!o.report.empty()) write_report(o, surface, s, enc, t, exec.resolved_threads());
 }
 
 void setup(CLI::App& app) {

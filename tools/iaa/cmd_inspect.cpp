@@ -5,8 +5,6 @@
 // shading and the final colour: as an indented tree (inspect_text.h), or as JSON
 // (inspect_json.h). `--vtk` writes the same as a VTK multiblock (viz/inspect_vtk.h) with the
 // enclosure boxes and the octree mesh near the pixel.
-#include <unistd.h>
-
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/files.h"
 #include "app/scene_loading.h"
 #include "core/error.h"
 #include "enclose/octree.h"
@@ -142,20 +141,6 @@ Nearby nearby(const Scene& scene, const InspectOptions& o, int x, int y) {
 
 // ---- The command ------------------------------------------------------------------------------
 
-void check_output(const std::string& path) {
-  const std::filesystem::path target(path);
-  const std::filesystem::path dir = target.has_parent_path() ? target.parent_path() : ".";
-  std::error_code ec;
-  if (!std::filesystem::is_directory(dir, ec)) {
-    throw Error("--vtk: cannot write '" + path + "': directory '" + dir.string() +
-                "' does not exist");
-  }
-  if (::access(dir.c_str(), W_OK) != 0) {
-    throw Error("--vtk: cannot write '" + path + "': directory '" + dir.string() +
-                "' is not writable");
-  }
-}
-
 /// Everything that can be checked before the work: the --vtk output, the enclosure options and
 /// the type of the scene file.
 void check_options(const InspectOptions& o) {
@@ -169,7 +154,7 @@ void check_options(const InspectOptions& o) {
     if (ext != ".vtm" && ext != ".VTM") {
       throw Error("--vtk: the output must be a .vtm file (a VTK multiblock), got '" + o.vtk + "'");
     }
-    check_output(o.vtk);
+    app::check_writable(o.vtk, "--vtk: ");
   }
   if (o.enclose_depth < 0 || o.enclose_depth > EncloseSettings::kMaxDepth) {
     throw SettingError("--enclose-depth must lie in 0.." +
