@@ -7,17 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <random>
-#include <sstream>
 #include <string>
 
 #include "core/error.h"
-#include "io/scene_toml.h"
 #include "mesh/mesh_report.h"
 #include "mesh/self_intersections.h"
 #include "mesh/topology_report.h"
+#include "test_scenes.h"
 
 namespace iaa {
 namespace {
@@ -213,10 +211,7 @@ TEST(CertifiedMesher, SameMeshForAnyThreadCount) {
 }
 
 TEST(CertifiedMesher, TeardropNeckIsReportedUncertifiedButMeshed) {
-  std::ifstream in(std::string(IAA_SOURCE_DIR) + "/data/scenes/teardrop.toml");
-  std::stringstream text;
-  text << in.rdbuf();
-  const Scene scene = parse_scene(text.str(), "teardrop.toml");
+  const Scene scene = test::bundled_scene("teardrop");
   CertifiedMeshSettings s = settings_for(scene.bounds);
   s.max_depth = 8;
   const CertifiedMesh m = mesh_certified(*scene.tape, s);

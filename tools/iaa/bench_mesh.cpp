@@ -11,6 +11,7 @@
 #include "app/scene_loading.h"
 #include "compare/compare.h"
 #include "iaa/bench.h"
+#include "iaa/bench_scenes.h"
 #include "iaa/mesh_common.h"
 #include "mesh/mesh_io.h"
 #include "mesh/mesh_raycast.h"
@@ -20,7 +21,7 @@ namespace iaa::cli {
 namespace {
 
 struct Options {
-  std::string scenes = "data/scenes";
+  std::string scene_dir;
   std::vector<std::string> surfaces = {"teardrop", "chubs", "tritrumpet", "twist", "blobby"};
   std::vector<std::string> methods = {"certified", "octree", "cgal", "vtk"};
   meshing::MeshParams p;
@@ -41,6 +42,7 @@ void run(const Options& o) {
   if (o.image < 8 || o.image > 4000)
     throw SettingError("--image must be in 8..4000, got " + std::to_string(o.image));
   o.p.validate();  // before the table's header
+  const std::string dir = find_scene_dir(o.scene_dir);
   std::vector<meshing::Method> methods;
   for (const std::string& m : o.methods) methods.push_back(meshing::parse_mesh_method(m));
   Exec exec;
@@ -54,7 +56,7 @@ void run(const Options& o) {
               "lost px", "wrong px", "undecided", "notes");
   nlohmann::json out = nlohmann::json::array();
   for (const std::string& name : o.surfaces) {
-    const std::string path = o.scenes + "/" + name + ".toml";
+    const std::string path = dir + "/" + name + ".toml";
     const std::string size = std::to_string(o.image);
     Scene scene = app::load_scene(path, {"image.width=" + size, "image.height=" + size});
     meshing::Surface s;
@@ -136,7 +138,7 @@ void run(const Options& o) {
   nlohmann::json scaling;
   if (!o.no_scaling && exec.resolved_threads() > 1 && !o.surfaces.empty() &&
       std::find(methods.begin(), methods.end(), meshing::Method::kCgal) != methods.end()) {
-    const std::string path = o.scenes + "/" + o.surfaces.front() + ".toml";
+    const std::string path = dir + "/" + o.surfaces.front() + ".toml";
     const Scene scene = app::load_scene(path);
     meshing::Surface s;
     s.name = scene.name;
@@ -172,7 +174,9 @@ void run(const Options& o) {
 
 void setup(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  app.add_option("--scenes", o->scenes, "directory of the scene files")->capture_default_str();
+  app.add_option("--scene-dir", o->scene_dir,
+                 "directory of the scene files (default: data/scenes in the working directory, "
+                 "else in the source tree above the executable)");
   app.add_option("--surface", o->surfaces, "surfaces (scene names) to run (repeatable)")
       ->capture_default_str();
   app.add_option("--method", o->methods,
