@@ -17,6 +17,7 @@
 #include <vtkOBJReader.h>
 #include <vtkPLYReader.h>
 #include <vtkPolyData.h>
+#include <vtkSTLReader.h>
 #include <vtkXMLMultiBlockDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
@@ -93,7 +94,7 @@ vtkSmartPointer<vtkDataObject> read_with(const std::string& path) {
 
 /// Throws iaa::Error unless `path` names an existing file of a known extension `ext`.
 void check_readable(const std::string& path, const std::string& ext) {
-  static const std::set<std::string> kKnown = {"vtm", "vtu", "vtp", "vtk", "ply", "obj"};
+  static const std::set<std::string> kKnown = {"vtm", "vtu", "vtp", "vtk", "ply", "obj", "stl"};
   if (!kKnown.count(ext)) {
     throw Error("'" + path + "': unknown file type" + (ext.empty() ? "" : " '." + ext + "'") +
                 "; iaa-viz reads " + known_extensions());
@@ -117,6 +118,7 @@ vtkSmartPointer<vtkDataObject> read_file(const std::string& path, const std::str
     }
     return read_with<vtkPLYReader>(path);
   }
+  if (ext == "stl") return read_with<vtkSTLReader>(path);  // binary or ASCII; points merged
   return read_with<vtkOBJReader>(path);
 }
 
@@ -190,7 +192,7 @@ LayerRole guess_role(const std::string& name, vtkDataSet* d) {
 }
 
 std::string known_extensions() {
-  return ".vtm, .vtu, .vtp, .vtk, .ply, .obj";
+  return ".vtm, .vtu, .vtp, .vtk, .ply, .obj, .stl";
 }
 
 std::vector<Layer> load_layers(const std::string& path, std::optional<ViewCamera>* camera) {

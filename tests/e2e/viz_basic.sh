@@ -4,6 +4,7 @@
 # unknown type, a bad size. Colours, cameras and display errors: tests/e2e/viz_cli_test.cpp.
 set -euo pipefail
 bin="$1"
+src="${2:-.}"
 [ -x "$bin/iaa-viz" ] || { echo "iaa-viz not built: skipped"; exit 0; }
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
@@ -29,6 +30,17 @@ test -s "$tmp/enc.png"
 grep -q "^mesh: .* triangles from " "$tmp/out" || { echo "mesh: no summary line"; cat "$tmp/out"; exit 1; }
 grep -q "(300x150, " "$tmp/out" || { echo "mesh: wrong size"; cat "$tmp/out"; exit 1; }
 [ "$(stat -c %s "$tmp/mesh.png")" -gt 3000 ] || { echo "mesh.png looks blank"; exit 1; }
+# A certified mesh written as binary STL, with the boxes of its uncertified cells (the teardrop's
+# singular point) over it.
+td="$src/data/scenes/teardrop.toml"
+if "$bin/iaa" mesh "$td" --resolution 32 --binary -o "$tmp/s.stl" --uncertified "$tmp/unc.vtu" \
+    -q >/dev/null 2>"$tmp/err"; then
+  "$bin/iaa-viz" "$tmp/s.stl" "$tmp/unc.vtu" --scene "$td" --size 200x150 -o "$tmp/stl.png" >"$tmp/out"
+  grep -q "(200x150, 2 layers)" "$tmp/out" || { echo "stl: wrong summary"; cat "$tmp/out"; exit 1; }
+  [ "$(stat -c %s "$tmp/stl.png")" -gt 3000 ] || { echo "stl.png looks blank"; exit 1; }
+elif ! grep -q "built without" "$tmp/err"; then
+  cat "$tmp/err"; exit 1
+fi
 if "$bin/iaa-viz" "$tmp/missing.vtu" -o "$tmp/x.png" 2>"$tmp/err"; then echo "missing file accepted"; exit 1; fi
 grep -q "no such file" "$tmp/err"
 touch "$tmp/a.xyz"
