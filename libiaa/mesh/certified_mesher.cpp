@@ -84,6 +84,9 @@ struct Leaf {
   std::uint8_t depth;
   Kind kind;
   std::int8_t sign;
+  /// 1 when a split for fidelity alone was undone (it left uncertified children): the leaf is
+  /// not split for fidelity again.
+  std::uint8_t keep = 0;
 };
 
 /// The fine grid: root cells per axis 2^root_bits[a], each split max_depth times.
@@ -432,6 +435,9 @@ struct CellOut {
   bool split = false;      ///< a global rule failed: split the leaf (or, at max depth, give up)
   bool uncertain = false;  ///< a corner's sign was not decided
   bool blocked = false;    ///< a finer neighbour's piece or edge failed a rule
+  /// A segment strays from the surface (a thin rim cut back): split for fidelity, which is no
+  /// rule, so a leaf that cannot be split for it stays certified.
+  bool refine = false;
   std::uint64_t open_chains = 0;
   std::vector<std::pair<Key, Vec3>> crossings;  ///< local vertices 0..n-1
   std::vector<Vec3> centres;                    ///< local vertices n..
@@ -706,6 +712,7 @@ class Extractor {
     if (segments_.empty()) return;
     place_crossings();
     used_.assign(segments_.size(), 0);
+    bent_ = false;
     int n_loops = 0;
     for (std::size_t s0 = 0; s0 < segments_.size(); ++s0) {
       if (used_[s0]) continue;
@@ -718,6 +725,31 @@ class Extractor {
       fan(loop_);
     }
     if (n_loops > 1) out_.split = true;
+    // Only a leaf that stays certified is split for fidelity: elsewhere its children would add
+    // uncertified cells, not fidelity.
+    const bool certified = certify_ && !out_.split && !out_.blocked && !out_.uncertain;
+    if (certified && bent_ && !leaf_.keep && leaf_.depth < settings_.min_depth + kFidelityLevels) {
+      check_segments();
+    }
+  }
+
+  // A segment across a face piece is a chord of the surface's arc there. Where the surface turns
+  // through 180 degrees within the piece, as at a thin blade's rim, the chord cuts the rim back by
+  // up to the piece's size, and no fan centre in either leaf can restore it: the leaf is split
+  // when the Newton step from a segment's midpoint is longer than kFidelityTolerance of the
+  // leaf's shortest edge, at most kFidelityLevels below min_depth.
+  static constexpr int kFidelityLevels = 1;
+  static constexpr double kFidelityTolerance = 0.25;
+  void check_segments() {
+    const double tol = kFidelityTolerance * shortest_edge(grid_.box(leaf_.at, size_));
+    for (const auto& [from, to] : segments_) {
+      const Vec3 m = 0.5 * (out_.crossings[local(from)].second + out_.crossings[local(to)].second);
+      const PGrad g = e_.pg.eval(m);
+      if (std::isfinite(g.v) && std::fabs(g.v) > tol * std::sqrt(dot(g.g, g.g))) {
+        out_.refine = true;
+        return;
+      }
+    }
   }
 
   void fan(const std::vector<std::uint32_t>& loop) {
@@ -740,6 +772,7 @@ class Extractor {
     mean = mean / double(m);
     const Box3 box = grid_.box(leaf_.at, size_);
     const Vec3 pulled = pull(clamp_inside(mean, box), box);
+    bent_ = bent_ || bent(p, mean, pulled, box);
     Vec3 c = pulled;
     if (!fan_embeds(p, c)) {
       c = clamp_inside(mean, box);
@@ -750,6 +783,22 @@ class Extractor {
     for (std::size_t i = 0; i < m; ++i) {
       out_.triangles.push_back({ci, loop[(i + 1) % m], loop[i]});
     }
+  }
+
+  // True when the fan's centre, pulled onto the surface, lies farther than kBendGate of the
+  // leaf's shortest edge from the loop's mean plane: the surface bends within the leaf, and its
+  // segments are worth checking (check_segments).
+  static constexpr double kBendGate = 0.1;
+  static bool bent(const std::vector<Vec3>& p, const Vec3& mean, const Vec3& c, const Box3& b) {
+    Vec3 n{};
+    for (std::size_t i = 0; i < p.size(); ++i)
+      n = n + cross(p[i] - mean, p[(i + 1) % p.size()] - mean);
+    const double n2 = dot(n, n), off = dot(c - mean, n);
+    return n2 > 0 && off * off > kBendGate * kBendGate * shortest_edge(b) * shortest_edge(b) * n2;
+  }
+
+  static double shortest_edge(const Box3& b) {
+    return std::min({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
   }
 
   static Vec3 clamp_inside(Vec3 p, const Box3& b) {
@@ -800,6 +849,7 @@ class Extractor {
   Leaf leaf_{};
   std::uint32_t size_ = 1;
   bool certify_ = false;
+  bool bent_ = false;  ///< a fan of this leaf found the surface bending (bent())
   CellOut out_;
   std::vector<Key> cycle_;
   std::vector<Crossing> crossings_;
@@ -883,7 +933,9 @@ Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& 
   std::vector<std::size_t> where;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     const Leaf& l = leaves[i];
-    if (l.kind != Kind::kCertified || !outs[i].split || l.depth == grid.max_depth) continue;
+    const bool fidelity = outs[i].refine && !l.keep;
+    if (l.kind != Kind::kCertified || !(outs[i].split || fidelity) || l.depth == grid.max_depth)
+      continue;
     const std::uint32_t h = grid.size(l.depth) / 2;
     for (int k = 0; k < 8; ++k) {
       cells.push_back(
@@ -891,15 +943,15 @@ Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& 
            l.depth + 1});
     }
     where.push_back(i);
-    out.split.push_back(l);
   }
   if (where.empty()) return out;
-  out.fresh = refine_all(r, cells, evals, exec);
+  const std::vector<Leaf> fresh = refine_all(r, cells, evals, exec);
   // The new leaves of where[j] follow each other in `fresh`, in the order of `where`.
-  out.leaves.reserve(leaves.size() + out.fresh.size());
+  out.leaves.reserve(leaves.size() + fresh.size());
   std::size_t next = 0, w = 0;
   for (std::size_t i = 0; i < leaves.size(); ++i) {
     if (w < where.size() && where[w] == i) {
+      ++w;
       const Leaf& p = leaves[i];
       const std::uint32_t s = grid.size(p.depth);
       auto inside = [&](const Leaf& f) {
@@ -908,11 +960,26 @@ Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& 
         }
         return true;
       };
-      while (next < out.fresh.size() && inside(out.fresh[next])) {
-        out.leaves.push_back(out.fresh[next++]);
+      const std::size_t first = next;
+      bool uncertified = false;
+      while (next < fresh.size() && inside(fresh[next])) {
+        uncertified = uncertified || fresh[next].kind == Kind::kUncertified;
+        ++next;
+      }
+      if (uncertified && !outs[i].split) {
+        // A split for fidelity alone that would leave uncertified cells is undone.
+        out.leaves.push_back(p);
+        out.leaves.back().keep = 1;
+        out.origin.push_back(std::int64_t(i));
+        continue;
+      }
+      for (std::size_t k = first; k < next; ++k) {
+        out.leaves.push_back(fresh[k]);
         out.origin.push_back(-1);
       }
-      ++w;
+      out.fresh.insert(out.fresh.end(), fresh.begin() + std::ptrdiff_t(first),
+                       fresh.begin() + std::ptrdiff_t(next));
+      out.split.push_back(p);
     } else {
       out.leaves.push_back(leaves[i]);
       out.origin.push_back(std::int64_t(i));

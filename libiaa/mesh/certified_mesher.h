@@ -14,7 +14,9 @@
 // edge, which corner signs cannot see, are either excluded by proof (`strict`: no critical point
 // of f on any face, f monotone on every edge), which gives an ambient isotopy mapping every cell
 // to itself, or pushed across by Plantinga and Vegter's argument (the default). docs/mesh.md
-// states the rules and the argument.
+// states the rules and the argument. For fidelity only, a leaf that passes every rule is split
+// once more where a segment across one of its faces cuts a bent surface (a thin rim) back by
+// more than a quarter of its edge (docs/mesh.md, "Fidelity split").
 //
 // A leaf that reaches the depth limit without either certificate is *uncertified*: meshed by the
 // same rules as well as they go (never dropped) and returned, so that callers can report it.

@@ -210,6 +210,21 @@ TEST(CertifiedMesher, SameMeshForAnyThreadCount) {
   }
 }
 
+TEST(CertifiedMesher, FidelitySplitKeepsABladeCertifiedAndThreadIndependent) {
+  // A slanted blade about one depth-3 leaf thick, whose rim turns through 180 degrees inside
+  // the leaves: the fidelity split fires here (904 leaves instead of 652 when it was added).
+  const std::string f = "x^4 + ((y - 0.3*x)/0.1)^4 + z^4 - 0.5";
+  const Checked one = run(f, kCube, 3, 1), two = run(f, kCube, 3, 2);
+  expect_certified_closed(two);
+  EXPECT_EQ(two.report.components, 1u);
+  EXPECT_EQ(two.report.euler, 2);
+  ASSERT_EQ(one.mesh.soup.vertices.size(), two.mesh.soup.vertices.size());
+  EXPECT_EQ(one.mesh.soup.triangles, two.mesh.soup.triangles);
+  for (std::size_t i = 0; i < one.mesh.soup.vertices.size(); ++i) {
+    EXPECT_EQ(one.mesh.soup.vertices[i], two.mesh.soup.vertices[i]);
+  }
+}
+
 TEST(CertifiedMesher, TeardropNeckIsReportedUncertifiedButMeshed) {
   const Scene scene = test::bundled_scene("teardrop");
   CertifiedMeshSettings s = settings_for(scene.bounds);
