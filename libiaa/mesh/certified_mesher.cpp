@@ -11,7 +11,6 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -274,59 +273,52 @@ class Refiner {
 /// Leaf corners in a hash table, with the sign of f there: +1 (f > 0), -1 (f <= 0, which is how a
 /// corner on the surface counts: the mesh follows f = delta for small delta > 0), and whether the
 /// interval evaluation could not decide (taken as -1).
+///
+/// The fine grid is cut into buckets (cubes of 2^bucket_shift grid steps) and the table into one
+/// region per bucket, in which its points are hashed (open addressing). The lookups of one leaf,
+/// and of the leaves after it (leaves come depth-first, so they lie close by), thus stay in a few
+/// cache lines; one table hashed over all points would miss the cache on nearly every lookup.
 struct VertexTable {
-  /// Open addressing: each slot holds a key (kNone: empty) with its sign and uncertainty, so
-  /// that a lookup touches one cache line. Size a power of two.
   struct Slot {
     Key key;
     std::int8_t sign;
-    std::uint8_t uncertain;
+    std::uint8_t uncertain;  ///< 1: the sign is undecided; 2 (while filling): to evaluate
   };
   static constexpr Key kNone = ~Key{0};
   std::vector<Slot> slots;
-  std::uint64_t mask = 0;
-  int shift = 60;
-  std::size_t count = 0;  ///< points in the table
+  /// The first slot of each bucket's region (bucket order z, y, x); region.back() is the slot
+  /// count. Each region is empty or a power of two at most half full.
+  std::vector<std::uint32_t> region{0, 0};
+  int bucket_shift = 0;
+  std::array<std::uint32_t, 3> buckets{1, 1, 1};  ///< per axis
 
-  // Fibonacci hashing: the high bits of the product mix every bit of the key.
-  std::uint64_t hash(Key k) const { return (k * 0x9E3779B97F4A7C15ull) >> shift; }
-  /// Room for `extra` more points at a load of at most one half (the table grows when needed).
-  void reserve(std::size_t extra) {
-    if (2 * (count + extra) <= slots.size()) return;
-    std::vector<Slot> old;
-    for (const Slot& s : slots) {
-      if (s.key != kNone) old.push_back(s);
+  std::size_t bucket(Key k) const {
+    const Index3 p = key_point(k);
+    std::size_t b = 0;
+    for (std::size_t a = 3; a-- > 0;) {
+      b = b * buckets[a] + std::min(p[a] >> bucket_shift, buckets[a] - 1);
     }
-    resize(2 * (count + extra));
-    for (const Slot& s : old) put(s);
+    return b;
   }
-  /// Inserts a point that is not in the table yet (after reserve()); returns its slot.
-  std::size_t put(const Slot& v) {
-    std::uint64_t h = hash(v.key) & mask;
-    while (slots[h].key != kNone) h = (h + 1) & mask;
-    slots[h] = v;
-    ++count;
-    return h;
-  }
-  void resize(std::size_t at_least) {
-    std::uint64_t n = 16;
-    shift = 60;
-    while (n < at_least) n *= 2, --shift;
-    mask = n - 1;
-    slots.assign(n, Slot{kNone, 0, 0});
-    count = 0;
-  }
+  static std::uint64_t hash(Key k) { return (k * 0x9E3779B97F4A7C15ull) >> 32; }
   /// The slot of k, or null.
   const Slot* find(Key k) const {
-    for (std::uint64_t h = hash(k) & mask;; h = (h + 1) & mask) {
-      const Slot& s = slots[h];
+    const std::size_t b = bucket(k);
+    const std::uint32_t base = region[b], n = region[b + 1] - base;
+    if (n == 0) return nullptr;
+    for (std::uint64_t h = hash(k) & (n - 1);; h = (h + 1) & (n - 1)) {
+      const Slot& s = slots[base + h];
       if (s.key == k) return &s;
       if (s.key == kNone) return nullptr;
     }
   }
   bool contains(Key k) const { return find(k) != nullptr; }
   /// Asks the memory for k's slot ahead of find(k).
-  void prefetch(Key k) const { __builtin_prefetch(&slots[hash(k) & mask]); }
+  void prefetch(Key k) const {
+    const std::size_t b = bucket(k);
+    const std::uint32_t base = region[b], n = region[b + 1] - base;
+    if (n > 0) __builtin_prefetch(&slots[base + (hash(k) & (n - 1))]);
+  }
 };
 
 /// The interval sign of f at a point: +1, -1 (f <= 0), or 0 when undecided.
@@ -339,51 +331,115 @@ std::int8_t point_sign(Evaluators& e, const Vec3& p) {
   return 0;
 }
 
-/// The corners of `leaves`, sorted and unique, each with what is known of its sign: -1 or +1
-/// proved by an empty leaf, or 3: to evaluate (a corner of a leaf that may hold surface, or one
-/// that only empty leaves where f may be undefined touch: a finer neighbour's corner on a face
-/// may be one, and its sign is then needed).
-std::vector<std::pair<Key, std::int8_t>> corners_of(const Grid& grid,
-                                                    const std::vector<Leaf>& leaves,
-                                                    const Exec& exec) {
-  // Each corner as (key << 2 | code): 0 proved f <= 0, 1 proved f > 0, 2 to evaluate, 3 nothing
-  // known; sorted, so that the smallest code of a key comes first and decides.
-  std::vector<std::uint64_t> all(leaves.size() * 8);
+/// Buckets of about 4 corner entries each, counted over the whole grid: most are empty (far from
+/// the surface), those near it hold a few dozen points.
+void choose_buckets(VertexTable& t, const Grid& grid, std::size_t entries) {
+  const std::uint64_t target = std::max<std::uint64_t>(1, entries / 4);
+  for (t.bucket_shift = 0;; ++t.bucket_shift) {
+    std::uint64_t total = 1;
+    for (std::size_t a = 0; a < 3; ++a) {
+      const int bits = std::max(0, grid.root_bits[a] + grid.max_depth - t.bucket_shift);
+      t.buckets[a] = std::uint32_t{1} << bits;
+      total *= t.buckets[a];
+    }
+    if (total <= target) return;
+  }
+}
+
+// Entry codes (the low 3 bits of key << 3 | code), in the order in which they decide a point:
+// the table's own points (0: f <= 0, 1: f > 0, 2: undecided), then the corners of new leaves (3:
+// an empty leaf proves f <= 0, 4: f > 0; 5: a corner of a leaf that may hold surface, 6: one that
+// only empty leaves where f may be undefined touch; both evaluated).
+constexpr std::uint64_t kFresh = 3;
+
+/// The table's points and the corners of `fresh`, as key << 3 | code, in no particular order.
+std::vector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid,
+                                         const std::vector<Leaf>& fresh, const Exec& exec) {
+  std::vector<std::uint64_t> all;
+  for (const VertexTable::Slot& s : t.slots) {
+    if (s.key == VertexTable::kNone) continue;
+    all.push_back(s.key << 3 | (s.uncertain ? 2 : (s.sign > 0 ? 1 : 0)));
+  }
+  const std::size_t old = all.size();
+  all.resize(old + 8 * fresh.size());
   exec.run([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096), [&](auto r) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, fresh.size(), 4096), [&](auto r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        const Leaf& l = leaves[i];
+        const Leaf& l = fresh[i];
         const std::uint32_t s = grid.size(l.depth);
         const std::uint64_t code =
-            l.kind != Kind::kEmpty ? 2 : (l.sign < 0 ? 0 : (l.sign > 0 ? 1 : 3));
+            kFresh + (l.kind != Kind::kEmpty ? 2 : (l.sign < 0 ? 0 : (l.sign > 0 ? 1 : 3)));
         for (std::uint32_t k = 0; k < 8; ++k) {
           const Key key = make_key(
               {l.at[0] + (k & 1) * s, l.at[1] + ((k >> 1) & 1) * s, l.at[2] + ((k >> 2) & 1) * s});
-          all[8 * i + k] = (key << 2) | code;
+          all[old + 8 * i + k] = (key << 3) | code;
         }
       }
     });
-    tbb::parallel_sort(all.begin(), all.end());
   });
-  std::vector<std::pair<Key, std::int8_t>> out;
-  for (std::size_t i = 0; i < all.size();) {
-    const Key key = all[i] >> 2;
-    const std::uint64_t code = all[i] & 3;
-    while (i < all.size() && (all[i] >> 2) == key) ++i;
-    out.emplace_back(key, std::int8_t(code == 0 ? -1 : (code == 1 ? 1 : 3)));
-  }
+  return all;
+}
+
+/// `entries` grouped by bucket (a counting sort); `start` gets each bucket's first entry.
+std::vector<std::uint64_t> by_bucket(const VertexTable& t,
+                                     const std::vector<std::uint64_t>& entries,
+                                     std::vector<std::uint32_t>& start) {
+  start.assign(t.region.size(), 0);
+  for (const std::uint64_t e : entries) ++start[t.bucket(e >> 3) + 1];
+  for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+  std::vector<std::uint64_t> out(entries.size());
+  for (const std::uint64_t e : entries) out[next[t.bucket(e >> 3)]++] = e;
   return out;
 }
 
-/// Evaluates the signs of the table's slots listed in `todo` (sign 3), in parallel.
-void evaluate_signs(VertexTable& t, const std::vector<std::size_t>& todo, const Grid& grid,
-                    ThreadEvaluators& evals, const Exec& exec) {
+/// Keeps one entry per point of e[0..n), the one with the smallest code, in e[0..returned), through
+/// a hash table in `scratch` (one bucket's entries fit the cache).
+std::uint32_t dedupe(std::uint64_t* e, std::size_t n, std::vector<std::uint64_t>& scratch) {
+  if (n == 0) return 0;
+  std::size_t size = 2;
+  while (size < 2 * n) size *= 2;
+  scratch.assign(size, VertexTable::kNone);
+  std::uint32_t unique = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t h = VertexTable::hash(e[i] >> 3) & (size - 1);
+    while (scratch[h] != VertexTable::kNone && (scratch[h] >> 3) != (e[i] >> 3)) {
+      h = (h + 1) & (size - 1);
+    }
+    if (scratch[h] == VertexTable::kNone) ++unique;
+    scratch[h] = std::min(scratch[h], e[i]);
+  }
+  std::uint32_t k = 0;
+  for (const std::uint64_t v : scratch) {
+    if (v != VertexTable::kNone) e[k++] = v;
+  }
+  return unique;
+}
+
+/// Places one bucket's entries (one per point) into its region.
+void fill_region(VertexTable& t, const std::uint64_t* e, std::size_t n, std::size_t b) {
+  const std::uint32_t base = t.region[b], size = t.region[b + 1] - base;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Key key = e[i] >> 3;
+    const std::uint64_t code = e[i] & 7;
+    std::uint64_t h = VertexTable::hash(key) & (size - 1);
+    while (t.slots[base + h].key != VertexTable::kNone) h = (h + 1) & (size - 1);
+    VertexTable::Slot& s = t.slots[base + h];
+    s.key = key;
+    s.sign = (code == 1 || code == 4) ? 1 : -1;
+    s.uncertain = code == 2 ? 1 : (code >= 5 ? 2 : 0);
+  }
+}
+
+/// Evaluates the signs of the slots marked to evaluate, in parallel.
+void evaluate_signs(VertexTable& t, const Grid& grid, ThreadEvaluators& evals, const Exec& exec) {
   exec.run([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1024), [&](auto r) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.slots.size(), 4096), [&](auto r) {
       RoundingScope scope;
       auto& ep = evals.local();
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        VertexTable::Slot& v = t.slots[todo[i]];
+        VertexTable::Slot& v = t.slots[i];
+        if (v.key == VertexTable::kNone || v.uncertain != 2) continue;
         const std::int8_t s = point_sign(*ep, grid.point(key_point(v.key)));
         v.sign = s == 0 ? -1 : s;
         v.uncertain = s == 0;
@@ -392,32 +448,42 @@ void evaluate_signs(VertexTable& t, const std::vector<std::size_t>& todo, const 
   });
 }
 
-VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
-                           ThreadEvaluators& evals, const Exec& exec) {
-  VertexTable t;
-  const std::vector<std::pair<Key, std::int8_t>> corners = corners_of(grid, leaves, exec);
-  t.resize(2 * corners.size());
-  std::vector<std::size_t> todo;
-  for (const auto& [key, sign] : corners) {
-    const std::size_t slot = t.put({key, sign, 0});
-    if (sign == 3) todo.push_back(slot);
-  }
-  evaluate_signs(t, todo, grid, evals, exec);
-  return t;
-}
-
-/// Adds the corners of new leaves (the refinement of split ones) to the table.
+/// Adds the corners of `fresh` (all leaves, or the refinement of split ones) to the table, each
+/// with what is known of its sign: proved by an empty leaf, else evaluated. Points already in the
+/// table keep theirs. The table is rebuilt, in parallel over buckets.
 void add_vertices(VertexTable& t, const Grid& grid, const std::vector<Leaf>& fresh,
                   ThreadEvaluators& evals, const Exec& exec) {
-  const std::vector<std::pair<Key, std::int8_t>> corners = corners_of(grid, fresh, exec);
-  t.reserve(corners.size());
-  std::vector<std::size_t> todo;
-  for (const auto& [key, sign] : corners) {
-    if (t.contains(key)) continue;
-    const std::size_t slot = t.put({key, sign, 0});
-    if (sign == 3) todo.push_back(slot);
+  std::vector<std::uint64_t> entries = table_entries(t, grid, fresh, exec);
+  VertexTable n;
+  choose_buckets(n, grid, entries.size());
+  n.region.assign(std::size_t{n.buckets[0]} * n.buckets[1] * n.buckets[2] + 1, 0);
+  std::vector<std::uint32_t> start;
+  entries = by_bucket(n, entries, start);
+  const std::size_t nb = n.region.size() - 1;
+  std::vector<std::uint32_t> unique(nb, 0);
+  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> scratch;
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](auto r) {
+      for (std::size_t b = r.begin(); b < r.end(); ++b) {
+        unique[b] = dedupe(entries.data() + start[b], start[b + 1] - start[b], scratch.local());
+      }
+    });
+  });
+  for (std::size_t b = 0; b < nb; ++b) {
+    std::uint32_t size = unique[b] == 0 ? 0 : 2;
+    while (size < 2 * unique[b]) size *= 2;
+    n.region[b + 1] = n.region[b] + size;
   }
-  evaluate_signs(t, todo, grid, evals, exec);
+  n.slots.assign(n.region.back(), VertexTable::Slot{VertexTable::kNone, 0, 0});
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](auto r) {
+      for (std::size_t b = r.begin(); b < r.end(); ++b) {
+        fill_region(n, entries.data() + start[b], unique[b], b);
+      }
+    });
+  });
+  t = std::move(n);
+  evaluate_signs(t, grid, evals, exec);
 }
 
 /// A mesh vertex on an edge piece: its id (lower end's key and axis), and its ends.
@@ -1114,7 +1180,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   lap(st.seconds_refine);
   // Round 1 extracts every leaf; later rounds only the new leaves and those touching a split one.
   Round r;
-  r.table = build_vertices(grid, leaves, evals, exec);
+  add_vertices(r.table, grid, leaves, evals, exec);
   lap(st.seconds_table);
   r.outs.resize(leaves.size());
   extract_all(grid, leaves, r.table, settings, evals, exec, r.outs);
