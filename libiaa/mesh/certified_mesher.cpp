@@ -111,6 +111,9 @@ struct Evaluators {
   PointEval p;
   PointGradEval pg;
   std::uint64_t evaluations = 0;
+  /// Leaves made by this thread and not yet added to the shared count (which they would make a
+  /// contended cache line if added one by one).
+  std::uint64_t pending_leaves = 0;
 };
 using ThreadEvaluators = tbb::enumerable_thread_specific<std::unique_ptr<Evaluators>>;
 
@@ -231,7 +234,7 @@ class Refiner {
     const bool defined = !e.f.partial_domain();
     if (zero_free(f) || f.is_empty()) {
       const std::int8_t sign = !defined || f.is_empty() ? 0 : (f.lo() > 0.0 ? 1 : -1);
-      return emit(out, {at, std::uint8_t(depth), Kind::kEmpty, sign});
+      return emit(e, out, {at, std::uint8_t(depth), Kind::kEmpty, sign});
     }
     // The mean-value form often proves what the natural interval could not.
     ++e.evaluations;
@@ -240,14 +243,15 @@ class Refiner {
     if (smooth && defined) {
       const Interval mv = mean_value(e, IBox(b), g);
       if (zero_free(mv))
-        return emit(out, {at, std::uint8_t(depth), Kind::kEmpty,
-                          mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)});
+        return emit(e, out,
+                    {at, std::uint8_t(depth), Kind::kEmpty,
+                     mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)});
     }
     if (depth >= settings_.min_depth && smooth && locally_certified(e, b, g, settings_.strict)) {
-      return emit(out, {at, std::uint8_t(depth), Kind::kCertified, 0});
+      return emit(e, out, {at, std::uint8_t(depth), Kind::kCertified, 0});
     }
     if (depth == grid_.max_depth) {
-      return emit(out, {at, std::uint8_t(depth), Kind::kUncertified, 0});
+      return emit(e, out, {at, std::uint8_t(depth), Kind::kUncertified, 0});
     }
     const std::uint32_t h = s / 2;
     for (int k = 0; k < 8; ++k) {
@@ -256,14 +260,21 @@ class Refiner {
     }
   }
 
- private:
-  void emit(std::vector<Leaf>& out, const Leaf& l) const {
-    out.push_back(l);
-    if (count_.fetch_add(1, std::memory_order_relaxed) + 1 > settings_.max_boxes) {
+  /// Adds the thread's pending leaves to the shared count; throws when it exceeds the limit.
+  void flush(Evaluators& e) const {
+    const std::uint64_t n = e.pending_leaves;
+    e.pending_leaves = 0;
+    if (count_.fetch_add(n, std::memory_order_relaxed) + n > settings_.max_boxes) {
       throw SettingError("certified mesh: more than " + std::to_string(settings_.max_boxes) +
                          " leaves are needed (the box limit); raise the limit or lower the "
                          "maximum depth");
     }
+  }
+
+ private:
+  void emit(Evaluators& e, std::vector<Leaf>& out, const Leaf& l) const {
+    out.push_back(l);
+    if (++e.pending_leaves == 1024) flush(e);
   }
   const Grid& grid_;
   const CertifiedMeshSettings& settings_;
@@ -907,6 +918,7 @@ std::vector<Leaf> refine_all(const Refiner& r, const std::vector<std::pair<Index
       r.refine(*evals.local(), cells[i].first, cells[i].second, parts[i]);
     });
   });
+  for (auto& e : evals) r.flush(*e);
   std::vector<Leaf> out;
   for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   return out;
