@@ -394,13 +394,21 @@ std::vector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid,
 /// `entries` grouped by bucket (a counting sort); `start` gets each bucket's first entry.
 std::vector<std::uint64_t> by_bucket(const VertexTable& t,
                                      const std::vector<std::uint64_t>& entries,
-                                     std::vector<std::uint32_t>& start) {
+                                     std::vector<std::uint32_t>& start, const Exec& exec) {
+  std::vector<std::uint32_t> bucket(entries.size());
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16384), [&](auto r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        bucket[i] = std::uint32_t(t.bucket(entries[i] >> 3));
+      }
+    });
+  });
   start.assign(t.region.size(), 0);
-  for (const std::uint64_t e : entries) ++start[t.bucket(e >> 3) + 1];
+  for (const std::uint32_t b : bucket) ++start[b + 1];
   for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
   std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
   std::vector<std::uint64_t> out(entries.size());
-  for (const std::uint64_t e : entries) out[next[t.bucket(e >> 3)]++] = e;
+  for (std::size_t i = 0; i < entries.size(); ++i) out[next[bucket[i]]++] = entries[i];
   return out;
 }
 
@@ -469,7 +477,7 @@ void add_vertices(VertexTable& t, const Grid& grid, const std::vector<Leaf>& fre
   choose_buckets(n, grid, entries.size());
   n.region.assign(std::size_t{n.buckets[0]} * n.buckets[1] * n.buckets[2] + 1, 0);
   std::vector<std::uint32_t> start;
-  entries = by_bucket(n, entries, start);
+  entries = by_bucket(n, entries, start, exec);
   const std::size_t nb = n.region.size() - 1;
   std::vector<std::uint32_t> unique(nb, 0);
   tbb::enumerable_thread_specific<std::vector<std::uint64_t>> scratch;
