@@ -298,8 +298,9 @@ struct VertexTable {
   static constexpr Key kNone = ~Key{0};
   std::vector<Slot> slots;
   /// The first slot of each bucket's region (bucket order z, y, x); region.back() is the slot
-  /// count. Each region is empty or a power of two at most half full.
+  /// count. Each region is empty or a power of two at most 3/4 full.
   std::vector<std::uint32_t> region{0, 0};
+  std::vector<std::uint32_t> used{0};  ///< points per bucket
   int bucket_shift = 0;
   std::array<std::uint32_t, 3> buckets{1, 1, 1};  ///< per axis
 
@@ -369,7 +370,7 @@ std::vector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid,
   std::vector<std::uint64_t> all;
   for (const VertexTable::Slot& s : t.slots) {
     if (s.key == VertexTable::kNone) continue;
-    all.push_back(s.key << 3 | (s.uncertain ? 2 : (s.sign > 0 ? 1 : 0)));
+    all.push_back(s.key << 3 | (s.uncertain == 2 ? 5 : (s.uncertain ? 2 : (s.sign > 0 ? 1 : 0))));
   }
   const std::size_t old = all.size();
   all.resize(old + 8 * fresh.size());
@@ -435,19 +436,33 @@ std::uint32_t dedupe(std::uint64_t* e, std::size_t n, std::vector<std::uint64_t>
   return unique;
 }
 
-/// Places one bucket's entries (one per point) into its region.
-void fill_region(VertexTable& t, const std::uint64_t* e, std::size_t n, std::size_t b) {
+/// Puts entry e (a point not in the table) into the region of its bucket b, which has room.
+void put(VertexTable& t, std::uint64_t e, std::size_t b) {
+  const Key key = e >> 3;
+  const std::uint64_t code = e & 7;
   const std::uint32_t base = t.region[b], size = t.region[b + 1] - base;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Key key = e[i] >> 3;
-    const std::uint64_t code = e[i] & 7;
-    std::uint64_t h = VertexTable::hash(key) & (size - 1);
-    while (t.slots[base + h].key != VertexTable::kNone) h = (h + 1) & (size - 1);
-    VertexTable::Slot& s = t.slots[base + h];
-    s.key = key;
-    s.sign = (code == 1 || code == 4) ? 1 : -1;
-    s.uncertain = code == 2 ? 1 : (code >= 5 ? 2 : 0);
+  std::uint64_t h = VertexTable::hash(key) & (size - 1);
+  while (t.slots[base + h].key != VertexTable::kNone) h = (h + 1) & (size - 1);
+  VertexTable::Slot& s = t.slots[base + h];
+  s.key = key;
+  s.sign = (code == 1 || code == 4) ? 1 : -1;
+  s.uncertain = code == 2 ? 1 : (code >= 5 ? 2 : 0);
+}
+
+/// Adds the new points among `entries` (corners of new leaves) to the table in place: false,
+/// with some added, when a region would be more than 3/4 full (the table is then rebuilt, each
+/// region at most half full).
+bool add_in_place(VertexTable& t, std::vector<std::uint64_t>& entries) {
+  std::sort(entries.begin(), entries.end());
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (i > 0 && (entries[i - 1] >> 3) == (entries[i] >> 3)) continue;
+    if (t.contains(entries[i] >> 3)) continue;
+    const std::size_t b = t.bucket(entries[i] >> 3);
+    if (4 * (t.used[b] + 1) > 3 * (t.region[b + 1] - t.region[b])) return false;
+    put(t, entries[i], b);
+    ++t.used[b];
   }
+  return true;
 }
 
 /// Evaluates the signs of the slots marked to evaluate, in parallel.
@@ -469,9 +484,14 @@ void evaluate_signs(VertexTable& t, const Grid& grid, ThreadEvaluators& evals, c
 
 /// Adds the corners of `fresh` (all leaves, or the refinement of split ones) to the table, each
 /// with what is known of its sign: proved by an empty leaf, else evaluated. Points already in the
-/// table keep theirs. The table is rebuilt, in parallel over buckets.
+/// table keep theirs. They go into the regions in place if there is room; otherwise the table is
+/// rebuilt, in parallel over buckets.
 void add_vertices(VertexTable& t, const Grid& grid, const std::vector<Leaf>& fresh,
                   ThreadEvaluators& evals, const Exec& exec) {
+  if (!t.slots.empty()) {
+    std::vector<std::uint64_t> entries = table_entries(VertexTable{}, grid, fresh, exec);
+    if (add_in_place(t, entries)) return evaluate_signs(t, grid, evals, exec);
+  }
   std::vector<std::uint64_t> entries = table_entries(t, grid, fresh, exec);
   VertexTable n;
   choose_buckets(n, grid, entries.size());
@@ -497,10 +517,11 @@ void add_vertices(VertexTable& t, const Grid& grid, const std::vector<Leaf>& fre
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](auto r) {
       for (std::size_t b = r.begin(); b < r.end(); ++b) {
-        fill_region(n, entries.data() + start[b], unique[b], b);
+        for (std::size_t i = 0; i < unique[b]; ++i) put(n, entries[start[b] + i], b);
       }
     });
   });
+  n.used = std::move(unique);
   t = std::move(n);
   evaluate_signs(t, grid, evals, exec);
 }
