@@ -11,6 +11,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -1116,17 +1117,50 @@ std::vector<char> touching(const Grid& grid, const std::vector<Leaf>& leaves,
   return mark;
 }
 
+/// Welds the crossings of all leaves by id into the soup's first vertices, in the order of their
+/// ids (every leaf that shares a crossing placed it at the same point, so which copy is kept is
+/// moot). Returns the vertex of each crossing, numbered leaf by leaf; `first` gets the number
+/// of each leaf's first crossing.
+std::vector<std::uint32_t> weld(const Round& r, const Exec& exec, TriangleSoup& soup,
+                                std::vector<std::uint32_t>& first) {
+  std::uint32_t n = 0;
+  first.resize(r.outs.size());
+  for (std::size_t i = 0; i < r.outs.size(); ++i) {
+    first[i] = n;
+    n += std::uint32_t(r.outs[i].crossings.size());
+  }
+  std::vector<std::pair<Key, std::uint32_t>> ids(n);  // crossing id, its number
+  std::vector<const Vec3*> at(n);
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, r.outs.size(), 1024), [&](auto range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        const CellOut& o = r.outs[i];
+        for (std::uint32_t k = 0; k < o.crossings.size(); ++k) {
+          ids[first[i] + k] = {o.crossings[k].first, first[i] + k};
+          at[first[i] + k] = &o.crossings[k].second;
+        }
+      }
+    });
+    tbb::parallel_sort(ids.begin(), ids.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+  });
+  std::vector<std::uint32_t> vertex(n);
+  for (std::size_t j = 0; j < ids.size(); ++j) {
+    if (j == 0 || ids[j].first != ids[j - 1].first) soup.vertices.push_back(*at[ids[j].second]);
+    vertex[ids[j].second] = std::uint32_t(soup.vertices.size() - 1);
+  }
+  return vertex;
+}
+
 /// Joins the leaves' pieces into one mesh (crossings welded by id) and fills the statistics.
 void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r, bool strict,
-              CertifiedMesh& m) {
-  std::vector<std::pair<Key, Vec3>> all;
-  for (const CellOut& o : r.outs) all.insert(all.end(), o.crossings.begin(), o.crossings.end());
-  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  all.erase(std::unique(all.begin(), all.end(),
-                        [](const auto& a, const auto& b) { return a.first == b.first; }),
-            all.end());
+              const Exec& exec, CertifiedMesh& m) {
   TriangleSoup& soup = m.soup;
-  for (const auto& c : all) soup.vertices.push_back(c.second);
+  std::vector<std::uint32_t> first_crossing;
+  const std::vector<std::uint32_t> vertex = weld(r, exec, soup, first_crossing);
+  // Per leaf, its first centre vertex and first triangle in the soup.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> first(leaves.size() + 1);
+  std::uint32_t vertices = std::uint32_t(soup.vertices.size()), triangles = 0;
   CertifiedMeshStats& st = m.stats;
   RoundingScope scope;
   double certified_diagonal = 0;  // over certified leaves that may hold surface
@@ -1138,6 +1172,11 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
       continue;
     }
     const CellOut& o = r.outs[i];
+    first[i] = {vertices, triangles};
+    if (!o.triangles.empty()) {
+      vertices += std::uint32_t(o.centres.size());
+      triangles += std::uint32_t(o.triangles.size());
+    }
     const Box3 box = grid.box(l.at, grid.size(l.depth));
     const bool certified = l.kind == Kind::kCertified && !o.split && !o.blocked && !o.uncertain;
     if (certified) {
@@ -1154,20 +1193,26 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
     if (certified && !o.triangles.empty()) {
       st.mesh_to_surface = std::fmax(st.mesh_to_surface, diagonal);
     }
-    if (o.triangles.empty()) continue;
-    std::vector<std::uint32_t> map(o.crossings.size() + o.centres.size());
-    for (std::size_t k = 0; k < o.crossings.size(); ++k) {
-      const auto it =
-          std::lower_bound(all.begin(), all.end(), o.crossings[k],
-                           [](const auto& a, const auto& b) { return a.first < b.first; });
-      map[k] = std::uint32_t(it - all.begin());
-    }
-    for (std::size_t k = 0; k < o.centres.size(); ++k) {
-      map[o.crossings.size() + k] = std::uint32_t(soup.vertices.size());
-      soup.vertices.push_back(o.centres[k]);
-    }
-    for (const auto& t : o.triangles) soup.triangles.push_back({map[t[0]], map[t[1]], map[t[2]]});
   }
+  soup.vertices.resize(vertices);
+  soup.triangles.resize(triangles);
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024), [&](auto range) {
+      std::vector<std::uint32_t> map;
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        const CellOut& o = r.outs[i];
+        if (leaves[i].kind == Kind::kEmpty || o.triangles.empty()) continue;
+        map.resize(o.crossings.size() + o.centres.size());
+        for (std::size_t k = 0; k < o.crossings.size(); ++k) map[k] = vertex[first_crossing[i] + k];
+        for (std::size_t k = 0; k < o.centres.size(); ++k) {
+          map[o.crossings.size() + k] = first[i].first + std::uint32_t(k);
+          soup.vertices[first[i].first + k] = o.centres[k];
+        }
+        std::size_t at = first[i].second;
+        for (const auto& t : o.triangles) soup.triangles[at++] = {map[t[0]], map[t[1]], map[t[2]]};
+      }
+    });
+  });
   for (const auto& v : r.table.slots)
     st.uncertain_corners += v.key != VertexTable::kNone && v.uncertain;
   st.surface_to_mesh = strict ? st.mesh_to_surface : certified_diagonal + st.mesh_to_surface;
@@ -1247,7 +1292,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
     r.outs = std::move(outs);
     lap(st.seconds_extract);
   }
-  assemble(grid, leaves, r, settings.strict, m);
+  assemble(grid, leaves, r, settings.strict, exec, m);
   st.leaves = leaves.size();
   st.roots = certified_root_cells(settings);
   for (const auto& e : evals) st.interval_evaluations += e->evaluations;
