@@ -305,13 +305,13 @@ struct VertexTable {
   int bucket_shift = 0;
   std::array<std::uint32_t, 3> buckets{1, 1, 1};  ///< per axis
 
+  /// Points on the grid's upper faces have buckets of their own (one more per axis), so that no
+  /// coordinate needs clamping.
   std::size_t bucket(Key k) const {
-    const Index3 p = key_point(k);
-    std::size_t b = 0;
-    for (std::size_t a = 3; a-- > 0;) {
-      b = b * buckets[a] + std::min(p[a] >> bucket_shift, buckets[a] - 1);
-    }
-    return b;
+    const Key m = (Key{1} << kKeyBits) - 1;
+    const int s = bucket_shift;
+    return (((k >> (2 * kKeyBits)) >> s) * buckets[1] + (((k >> kKeyBits) & m) >> s)) * buckets[0] +
+           ((k & m) >> s);
   }
   static std::uint64_t hash(Key k) { return (k * 0x9E3779B97F4A7C15ull) >> 32; }
   /// The slot of k, or null.
@@ -351,8 +351,8 @@ void choose_buckets(VertexTable& t, const Grid& grid, std::size_t entries) {
   for (t.bucket_shift = 0;; ++t.bucket_shift) {
     std::uint64_t total = 1;
     for (std::size_t a = 0; a < 3; ++a) {
-      const int bits = std::max(0, grid.root_bits[a] + grid.max_depth - t.bucket_shift);
-      t.buckets[a] = std::uint32_t{1} << bits;
+      const int bits = grid.root_bits[a] + grid.max_depth;
+      t.buckets[a] = (std::uint32_t{1} << bits >> std::min(bits, t.bucket_shift)) + 1;
       total *= t.buckets[a];
     }
     if (total <= target) return;
