@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -228,37 +229,23 @@ class Refiner {
       : grid_(g), settings_(s), count_(count) {}
 
   void refine(Evaluators& e, const Index3& at, int depth, std::vector<Leaf>& out) const {
-    const std::uint32_t s = grid_.size(depth);
-    const Box3 b = grid_.box(at, s);
-    ++e.evaluations;
-    const Interval f = e.f.eval(IBox(b));
-    const bool defined = !e.f.partial_domain();
-    if (zero_free(f) || f.is_empty()) {
-      const std::int8_t sign = !defined || f.is_empty() ? 0 : (f.lo() > 0.0 ? 1 : -1);
-      return emit(e, out, {at, std::uint8_t(depth), Kind::kEmpty, sign});
-    }
-    // The mean-value form often proves what the natural interval could not.
-    ++e.evaluations;
-    const IGrad g = e.g.eval(IBox(b));
-    const bool smooth = !e.g.partial_domain();
-    if (smooth && defined) {
-      const Interval mv = mean_value(e, IBox(b), g);
-      if (zero_free(mv))
-        return emit(e, out,
-                    {at, std::uint8_t(depth), Kind::kEmpty,
-                     mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)});
-    }
-    if (depth >= settings_.min_depth && smooth && locally_certified(e, b, g, settings_.strict)) {
-      return emit(e, out, {at, std::uint8_t(depth), Kind::kCertified, 0});
-    }
-    if (depth == grid_.max_depth) {
-      return emit(e, out, {at, std::uint8_t(depth), Kind::kUncertified, 0});
-    }
-    const std::uint32_t h = s / 2;
-    for (int k = 0; k < 8; ++k) {
-      refine(e, {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h},
-             depth + 1, out);
-    }
+    if (const std::optional<Leaf> l = classify(e, at, depth)) return emit(e, out, *l);
+    for (int k = 0; k < 8; ++k) refine(e, child(at, depth, k), depth + 1, out);
+  }
+
+  /// refine(), with the children of the first `levels` levels of splits refined in parallel (a
+  /// scene of one root cell would use one thread otherwise); the same leaves in the same order.
+  void refine_parallel(ThreadEvaluators& evals, const Index3& at, int depth, int levels,
+                       std::vector<Leaf>& out) const {
+    Evaluators& e = *evals.local();
+    if (levels == 0) return refine(e, at, depth, out);
+    if (const std::optional<Leaf> l = classify(e, at, depth)) return emit(e, out, *l);
+    std::array<std::vector<Leaf>, 8> parts;
+    tbb::parallel_for(0, 8, [&](int k) {
+      RoundingScope scope;
+      refine_parallel(evals, child(at, depth, k), depth + 1, levels - 1, parts[std::size_t(k)]);
+    });
+    for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   }
 
   /// Adds the thread's pending leaves to the shared count; throws when it exceeds the limit.
@@ -273,6 +260,42 @@ class Refiner {
   }
 
  private:
+  Index3 child(const Index3& at, int depth, int k) const {
+    const std::uint32_t h = grid_.size(depth) / 2;
+    return {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h};
+  }
+
+  /// The leaf that the cell is (empty, certified, or uncertified at the depth limit), or nothing
+  /// when it must be split.
+  std::optional<Leaf> classify(Evaluators& e, const Index3& at, int depth) const {
+    const std::uint32_t s = grid_.size(depth);
+    const Box3 b = grid_.box(at, s);
+    ++e.evaluations;
+    const Interval f = e.f.eval(IBox(b));
+    const bool defined = !e.f.partial_domain();
+    if (zero_free(f) || f.is_empty()) {
+      const std::int8_t sign = !defined || f.is_empty() ? 0 : (f.lo() > 0.0 ? 1 : -1);
+      return Leaf{at, std::uint8_t(depth), Kind::kEmpty, sign};
+    }
+    // The mean-value form often proves what the natural interval could not.
+    ++e.evaluations;
+    const IGrad g = e.g.eval(IBox(b));
+    const bool smooth = !e.g.partial_domain();
+    if (smooth && defined) {
+      const Interval mv = mean_value(e, IBox(b), g);
+      if (zero_free(mv))
+        return Leaf{at, std::uint8_t(depth), Kind::kEmpty,
+                    mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)};
+    }
+    if (depth >= settings_.min_depth && smooth && locally_certified(e, b, g, settings_.strict)) {
+      return Leaf{at, std::uint8_t(depth), Kind::kCertified, 0};
+    }
+    if (depth == grid_.max_depth) {
+      return Leaf{at, std::uint8_t(depth), Kind::kUncertified, 0};
+    }
+    return std::nullopt;
+  }
+
   void emit(Evaluators& e, std::vector<Leaf>& out, const Leaf& l) const {
     out.push_back(l);
     if (++e.pending_leaves == 1024) flush(e);
@@ -942,10 +965,14 @@ Grid make_grid(const CertifiedMeshSettings& s) {
 std::vector<Leaf> refine_all(const Refiner& r, const std::vector<std::pair<Index3, int>>& cells,
                              ThreadEvaluators& evals, const Exec& exec) {
   std::vector<std::vector<Leaf>> parts(cells.size());
+  // Few cells (a scene of one root cell): their top levels split in parallel too, so that there
+  // are at least 256 tasks.
+  int levels = 0;
+  while (levels < 3 && (cells.size() << (3 * levels)) < 256) ++levels;
   exec.run([&] {
     tbb::parallel_for(std::size_t{0}, cells.size(), [&](std::size_t i) {
       RoundingScope scope;
-      r.refine(*evals.local(), cells[i].first, cells[i].second, parts[i]);
+      r.refine_parallel(evals, cells[i].first, cells[i].second, levels, parts[i]);
     });
   });
   for (auto& e : evals) r.flush(*e);
