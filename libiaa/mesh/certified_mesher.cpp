@@ -349,12 +349,6 @@ struct VertexTable {
     }
   }
   bool contains(Key k) const { return find(k) != nullptr; }
-  /// Asks the memory for k's slot ahead of find(k).
-  void prefetch(Key k) const {
-    const std::size_t b = bucket(k);
-    const std::uint32_t base = region[b], n = region[b + 1] - base;
-    if (n > 0) __builtin_prefetch(&slots[base + (hash(k) & (n - 1))]);
-  }
 };
 
 /// The interval sign of f at a point: +1, -1 (f <= 0), or 0 when undecided.
@@ -595,13 +589,6 @@ class Extractor {
   bool quiet() {
     const Index3& p = leaf_.at;
     const std::uint32_t s = size_, h = s / 2;
-    // The lookups below miss the cache, independently: start them all at once.
-    for (std::uint32_t k = 0; k < 27; ++k) {
-      const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
-      Index3 q;
-      for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
-      table_.prefetch(make_key(q));
-    }
     finer_ = false;
     bool same = true;
     for (std::uint32_t k = 0; k < 8; ++k) {
