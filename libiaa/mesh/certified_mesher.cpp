@@ -123,27 +123,39 @@ bool zero_free(const Interval& v) {
   return v.hi() <= 0.0 || v.lo() > 0.0;
 }
 
+/// Coordinate a of the centre of b, the point the mean-value form expands around.
+double centre(const IBox& b, int a) {
+  return b[a].lo() == b[a].hi() ? b[a].lo()
+                                : std::clamp(0.5 * (b[a].lo() + b[a].hi()), b[a].lo(), b[a].hi());
+}
+
 /// The value of f over `b` bounded twice, by the natural interval `g.v` and by the mean-value form
 /// f(c) + G(b).(b - c) around b's centre c, intersected. The mean-value form's overestimation
 /// shrinks with the square of the box's size, the natural interval's only linearly: near a
 /// tangency between the surface and a grid plane only the former can prove a face free of zeros.
 /// At kinks (min, max, abs) G holds every generalized gradient, for which the mean-value theorem
 /// of Lipschitz functions (Lebourg) holds.
-Interval mean_value(Evaluators& e, const IBox& b, const IGrad& g) {
-  Vec3 c;
+/// f(c) + G.(b - c) for the centre c of b and its value `fc` there.
+Interval expand(const IBox& b, Interval fc, const std::array<Interval, 3>& g) {
+  for (int a = 0; a < 3; ++a) {
+    if (b[a].lo() != b[a].hi()) fc = fc + g[std::size_t(a)] * (b[a] - Interval(centre(b, a)));
+  }
+  return fc;
+}
+
+/// f at the centre of b, or nothing where f may be undefined there.
+std::optional<Interval> centre_value(Evaluators& e, const IBox& b) {
   IBox point;
-  for (int a = 0; a < 3; ++a) {
-    c[a] = b[a].lo() == b[a].hi() ? b[a].lo()
-                                  : std::clamp(0.5 * (b[a].lo() + b[a].hi()), b[a].lo(), b[a].hi());
-    point[a] = Interval(c[a]);
-  }
+  for (int a = 0; a < 3; ++a) point[a] = Interval(centre(b, a));
   ++e.evaluations;
-  Interval v = e.f.eval(point);
-  if (e.f.partial_domain()) return g.v;
-  for (int a = 0; a < 3; ++a) {
-    if (b[a].lo() != b[a].hi()) v = v + g.g[std::size_t(a)] * (b[a] - point[a]);
-  }
-  return intersect(v, g.v);
+  const Interval v = e.f.eval(point);
+  if (e.f.partial_domain()) return std::nullopt;
+  return v;
+}
+
+Interval mean_value(Evaluators& e, const IBox& b, const IGrad& g) {
+  const std::optional<Interval> fc = centre_value(e, b);
+  return fc ? intersect(expand(b, *fc, g.g), g.v) : g.v;
 }
 
 /// The gradient evaluation of a box degenerate along the axes in `flat` (bit a: axis a at lo),
@@ -228,9 +240,18 @@ class Refiner {
   Refiner(const Grid& g, const CertifiedMeshSettings& s, std::atomic<std::uint64_t>& count)
       : grid_(g), settings_(s), count_(count) {}
 
-  void refine(Evaluators& e, const Index3& at, int depth, std::vector<Leaf>& out) const {
-    if (const std::optional<Leaf> l = classify(e, at, depth)) return emit(e, out, *l);
-    for (int k = 0; k < 8; ++k) refine(e, child(at, depth, k), depth + 1, out);
+  /// `parent`: the gradient enclosure of the cell's parent, if it has one without domain
+  /// trouble.
+  void refine(Evaluators& e, const Index3& at, int depth, std::vector<Leaf>& out,
+              const IGrad* parent = nullptr) const {
+    IGrad g;
+    bool smooth = false;
+    if (const std::optional<Leaf> l = classify(e, at, depth, parent, g, smooth)) {
+      return emit(e, out, *l);
+    }
+    for (int k = 0; k < 8; ++k) {
+      refine(e, child(at, depth, k), depth + 1, out, smooth ? &g : nullptr);
+    }
   }
 
   /// refine(), with the children of the first `levels` levels of splits refined in parallel (a
@@ -239,7 +260,11 @@ class Refiner {
                        std::vector<Leaf>& out) const {
     Evaluators& e = *evals.local();
     if (levels == 0) return refine(e, at, depth, out);
-    if (const std::optional<Leaf> l = classify(e, at, depth)) return emit(e, out, *l);
+    IGrad g;
+    bool smooth = false;
+    if (const std::optional<Leaf> l = classify(e, at, depth, nullptr, g, smooth)) {
+      return emit(e, out, *l);
+    }
     std::array<std::vector<Leaf>, 8> parts;
     tbb::parallel_for(0, 8, [&](int k) {
       RoundingScope scope;
@@ -266,8 +291,10 @@ class Refiner {
   }
 
   /// The leaf that the cell is (empty, certified, or uncertified at the depth limit), or nothing
-  /// when it must be split.
-  std::optional<Leaf> classify(Evaluators& e, const Index3& at, int depth) const {
+  /// when it must be split. `g` gets the cell's gradient enclosure when it was evaluated, and
+  /// `smooth` whether it is free of domain trouble.
+  std::optional<Leaf> classify(Evaluators& e, const Index3& at, int depth, const IGrad* parent,
+                               IGrad& g, bool& smooth) const {
     const std::uint32_t s = grid_.size(depth);
     const Box3 b = grid_.box(at, s);
     ++e.evaluations;
@@ -277,12 +304,27 @@ class Refiner {
       const std::int8_t sign = !defined || f.is_empty() ? 0 : (f.lo() > 0.0 ? 1 : -1);
       return Leaf{at, std::uint8_t(depth), Kind::kEmpty, sign};
     }
-    // The mean-value form often proves what the natural interval could not.
+    // The mean-value form often proves what the natural interval could not. The parent's gradient
+    // encloses the cell's own, so the form with it encloses the form with the cell's: when it
+    // proves the cell empty, the cell's gradient would too, with the same sign, and need not be
+    // evaluated.
+    std::optional<Interval> fc;
+    if (parent && defined) {
+      fc = centre_value(e, IBox(b));
+      if (fc) {
+        const Interval wide = expand(IBox(b), *fc, parent->g);
+        if (zero_free(wide)) {
+          return Leaf{at, std::uint8_t(depth), Kind::kEmpty,
+                      wide.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)};
+        }
+      }
+    }
     ++e.evaluations;
-    const IGrad g = e.g.eval(IBox(b));
-    const bool smooth = !e.g.partial_domain();
+    g = e.g.eval(IBox(b));
+    smooth = !e.g.partial_domain();
     if (smooth && defined) {
-      const Interval mv = mean_value(e, IBox(b), g);
+      const Interval mv =
+          fc ? intersect(expand(IBox(b), *fc, g.g), g.v) : mean_value(e, IBox(b), g);
       if (zero_free(mv))
         return Leaf{at, std::uint8_t(depth), Kind::kEmpty,
                     mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)};
