@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -115,11 +116,20 @@ struct Evaluators {
   PointEval p;
   PointGradEval pg;
   std::uint64_t evaluations = 0;
+  /// Leaves made by this thread and not yet added to the shared count (which they would make a
+  /// contended cache line if added one by one).
+  std::uint64_t pending_leaves = 0;
 };
 using ThreadEvaluators = tbb::enumerable_thread_specific<std::unique_ptr<Evaluators>>;
 
 bool zero_free(const Interval& v) {
   return v.hi() <= 0.0 || v.lo() > 0.0;
+}
+
+/// Coordinate a of the centre of b, the point the mean-value form expands around.
+double centre(const IBox& b, int a) {
+  return b[a].lo() == b[a].hi() ? b[a].lo()
+                                : std::clamp(0.5 * (b[a].lo() + b[a].hi()), b[a].lo(), b[a].hi());
 }
 
 /// The value of f over `b` bounded twice, by the natural interval `g.v` and by the mean-value form
@@ -128,21 +138,27 @@ bool zero_free(const Interval& v) {
 /// tangency between the surface and a grid plane only the former can prove a face free of zeros.
 /// At kinks (min, max, abs) G holds every generalized gradient, for which the mean-value theorem
 /// of Lipschitz functions (Lebourg) holds.
-Interval mean_value(Evaluators& e, const IBox& b, const IGrad& g) {
-  Vec3 c;
+/// f(c) + G.(b - c) for the centre c of b and its value `fc` there.
+Interval expand(const IBox& b, Interval fc, const std::array<Interval, 3>& g) {
+  for (int a = 0; a < 3; ++a) {
+    if (b[a].lo() != b[a].hi()) fc = fc + g[std::size_t(a)] * (b[a] - Interval(centre(b, a)));
+  }
+  return fc;
+}
+
+/// f at the centre of b, or nothing where f may be undefined there.
+std::optional<Interval> centre_value(Evaluators& e, const IBox& b) {
   IBox point;
-  for (int a = 0; a < 3; ++a) {
-    c[a] = b[a].lo() == b[a].hi() ? b[a].lo()
-                                  : std::clamp(0.5 * (b[a].lo() + b[a].hi()), b[a].lo(), b[a].hi());
-    point[a] = Interval(c[a]);
-  }
+  for (int a = 0; a < 3; ++a) point[a] = Interval(centre(b, a));
   ++e.evaluations;
-  Interval v = e.f.eval(point);
-  if (e.f.partial_domain()) return g.v;
-  for (int a = 0; a < 3; ++a) {
-    if (b[a].lo() != b[a].hi()) v = v + g.g[std::size_t(a)] * (b[a] - point[a]);
-  }
-  return intersect(v, g.v);
+  const Interval v = e.f.eval(point);
+  if (e.f.partial_domain()) return std::nullopt;
+  return v;
+}
+
+Interval mean_value(Evaluators& e, const IBox& b, const IGrad& g) {
+  const std::optional<Interval> fc = centre_value(e, b);
+  return fc ? intersect(expand(b, *fc, g.g), g.v) : g.v;
 }
 
 /// The gradient evaluation of a box degenerate along the axes in `flat` (bit a: axis a at lo),
@@ -227,7 +243,61 @@ class Refiner {
   Refiner(const Grid& g, const CertifiedMeshSettings& s, std::atomic<std::uint64_t>& count)
       : grid_(g), settings_(s), count_(count) {}
 
-  void refine(Evaluators& e, const Index3& at, int depth, std::vector<Leaf>& out) const {
+  /// `parent`: the gradient enclosure of the cell's parent, if it has one without domain
+  /// trouble.
+  void refine(Evaluators& e, const Index3& at, int depth, std::vector<Leaf>& out,
+              const IGrad* parent = nullptr) const {
+    IGrad g;
+    bool smooth = false;
+    if (const std::optional<Leaf> l = classify(e, at, depth, parent, g, smooth)) {
+      return emit(e, out, *l);
+    }
+    for (int k = 0; k < 8; ++k) {
+      refine(e, child(at, depth, k), depth + 1, out, smooth ? &g : nullptr);
+    }
+  }
+
+  /// refine(), with the children of the first `levels` levels of splits refined in parallel (a
+  /// scene of one root cell would use one thread otherwise); the same leaves in the same order.
+  void refine_parallel(ThreadEvaluators& evals, const Index3& at, int depth, int levels,
+                       std::vector<Leaf>& out) const {
+    Evaluators& e = *evals.local();
+    if (levels == 0) return refine(e, at, depth, out);
+    IGrad g;
+    bool smooth = false;
+    if (const std::optional<Leaf> l = classify(e, at, depth, nullptr, g, smooth)) {
+      return emit(e, out, *l);
+    }
+    std::array<std::vector<Leaf>, 8> parts;
+    tbb::parallel_for(0, 8, [&](int k) {
+      RoundingScope scope;
+      refine_parallel(evals, child(at, depth, k), depth + 1, levels - 1, parts[std::size_t(k)]);
+    });
+    for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  }
+
+  /// Adds the thread's pending leaves to the shared count; throws when it exceeds the limit.
+  void flush(Evaluators& e) const {
+    const std::uint64_t n = e.pending_leaves;
+    e.pending_leaves = 0;
+    if (count_.fetch_add(n, std::memory_order_relaxed) + n > settings_.max_boxes) {
+      throw SettingError("certified mesh: more than " + std::to_string(settings_.max_boxes) +
+                         " leaves are needed (the box limit); raise the limit or lower the "
+                         "maximum depth");
+    }
+  }
+
+ private:
+  Index3 child(const Index3& at, int depth, int k) const {
+    const std::uint32_t h = grid_.size(depth) / 2;
+    return {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h};
+  }
+
+  /// The leaf that the cell is (empty, certified, or uncertified at the depth limit), or nothing
+  /// when it must be split. `g` gets the cell's gradient enclosure when it was evaluated, and
+  /// `smooth` whether it is free of domain trouble.
+  std::optional<Leaf> classify(Evaluators& e, const Index3& at, int depth, const IGrad* parent,
+                               IGrad& g, bool& smooth) const {
     const std::uint32_t s = grid_.size(depth);
     const Box3 b = grid_.box(at, s);
     ++e.evaluations;
@@ -235,39 +305,45 @@ class Refiner {
     const bool defined = !e.f.partial_domain();
     if (zero_free(f) || f.is_empty()) {
       const std::int8_t sign = !defined || f.is_empty() ? 0 : (f.lo() > 0.0 ? 1 : -1);
-      return emit(out, {at, std::uint8_t(depth), Kind::kEmpty, sign});
+      return Leaf{at, std::uint8_t(depth), Kind::kEmpty, sign};
     }
-    // The mean-value form often proves what the natural interval could not.
+    // The mean-value form often proves what the natural interval could not. The parent's gradient
+    // encloses the cell's own, so the form with it encloses the form with the cell's: when it
+    // proves the cell empty, the cell's gradient would too, with the same sign, and need not be
+    // evaluated.
+    std::optional<Interval> fc;
+    if (parent && defined) {
+      fc = centre_value(e, IBox(b));
+      if (fc) {
+        const Interval wide = expand(IBox(b), *fc, parent->g);
+        if (zero_free(wide)) {
+          return Leaf{at, std::uint8_t(depth), Kind::kEmpty,
+                      wide.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)};
+        }
+      }
+    }
     ++e.evaluations;
-    const IGrad g = e.g.eval(IBox(b));
-    const bool smooth = !e.g.partial_domain();
+    g = e.g.eval(IBox(b));
+    smooth = !e.g.partial_domain();
     if (smooth && defined) {
-      const Interval mv = mean_value(e, IBox(b), g);
+      const Interval mv =
+          fc ? intersect(expand(IBox(b), *fc, g.g), g.v) : mean_value(e, IBox(b), g);
       if (zero_free(mv))
-        return emit(out, {at, std::uint8_t(depth), Kind::kEmpty,
-                          mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)});
+        return Leaf{at, std::uint8_t(depth), Kind::kEmpty,
+                    mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)};
     }
     if (depth >= settings_.min_depth && smooth && locally_certified(e, b, g, settings_.strict)) {
-      return emit(out, {at, std::uint8_t(depth), Kind::kCertified, 0});
+      return Leaf{at, std::uint8_t(depth), Kind::kCertified, 0};
     }
     if (depth == grid_.max_depth) {
-      return emit(out, {at, std::uint8_t(depth), Kind::kUncertified, 0});
+      return Leaf{at, std::uint8_t(depth), Kind::kUncertified, 0};
     }
-    const std::uint32_t h = s / 2;
-    for (int k = 0; k < 8; ++k) {
-      refine(e, {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h},
-             depth + 1, out);
-    }
+    return std::nullopt;
   }
 
- private:
-  void emit(std::vector<Leaf>& out, const Leaf& l) const {
+  void emit(Evaluators& e, std::vector<Leaf>& out, const Leaf& l) const {
     out.push_back(l);
-    if (count_.fetch_add(1, std::memory_order_relaxed) + 1 > settings_.max_boxes) {
-      throw SettingError("certified mesh: more than " + std::to_string(settings_.max_boxes) +
-                         " leaves are needed (the box limit); raise the limit or lower the "
-                         "maximum depth");
-    }
+    if (++e.pending_leaves == 1024) flush(e);
   }
   const Grid& grid_;
   const CertifiedMeshSettings& settings_;
@@ -277,59 +353,47 @@ class Refiner {
 /// Leaf corners in a hash table, with the sign of f there: +1 (f > 0), -1 (f <= 0, which is how a
 /// corner on the surface counts: the mesh follows f = delta for small delta > 0), and whether the
 /// interval evaluation could not decide (taken as -1).
+///
+/// The fine grid is cut into buckets (cubes of 2^bucket_shift grid steps) and the table into one
+/// region per bucket, in which its points are hashed (open addressing). The lookups of one leaf,
+/// and of the leaves after it (leaves come depth-first, so they lie close by), thus stay in a few
+/// cache lines; one table hashed over all points would miss the cache on nearly every lookup.
 struct VertexTable {
-  /// Open addressing: each slot holds a key (kNone: empty) with its sign and uncertainty, so
-  /// that a lookup touches one cache line. Size a power of two.
   struct Slot {
     Key key;
     std::int8_t sign;
-    std::uint8_t uncertain;
+    std::uint8_t uncertain;  ///< 1: the sign is undecided; 2 (while filling): to evaluate
   };
   static constexpr Key kNone = ~Key{0};
   std::vector<Slot> slots;
-  std::uint64_t mask = 0;
-  int shift = 60;
-  std::size_t count = 0;  ///< points in the table
+  /// The first slot of each bucket's region (bucket order z, y, x); region.back() is the slot
+  /// count. Each region is empty or a power of two at most 3/4 full.
+  std::vector<std::uint32_t> region{0, 0};
+  std::vector<std::uint32_t> used{0};  ///< points per bucket
+  int bucket_shift = 0;
+  std::array<std::uint32_t, 3> buckets{1, 1, 1};  ///< per axis
 
-  // Fibonacci hashing: the high bits of the product mix every bit of the key.
-  std::uint64_t hash(Key k) const { return (k * 0x9E3779B97F4A7C15ull) >> shift; }
-  /// Room for `extra` more points at a load of at most one half (the table grows when needed).
-  void reserve(std::size_t extra) {
-    if (2 * (count + extra) <= slots.size()) return;
-    std::vector<Slot> old;
-    for (const Slot& s : slots) {
-      if (s.key != kNone) old.push_back(s);
-    }
-    resize(2 * (count + extra));
-    for (const Slot& s : old) put(s);
+  /// Points on the grid's upper faces have buckets of their own (one more per axis), so that no
+  /// coordinate needs clamping.
+  std::size_t bucket(Key k) const {
+    const Key m = (Key{1} << kKeyBits) - 1;
+    const int s = bucket_shift;
+    return (((k >> (2 * kKeyBits)) >> s) * buckets[1] + (((k >> kKeyBits) & m) >> s)) * buckets[0] +
+           ((k & m) >> s);
   }
-  /// Inserts a point that is not in the table yet (after reserve()); returns its slot.
-  std::size_t put(const Slot& v) {
-    std::uint64_t h = hash(v.key) & mask;
-    while (slots[h].key != kNone) h = (h + 1) & mask;
-    slots[h] = v;
-    ++count;
-    return h;
-  }
-  void resize(std::size_t at_least) {
-    std::uint64_t n = 16;
-    shift = 60;
-    while (n < at_least) n *= 2, --shift;
-    mask = n - 1;
-    slots.assign(n, Slot{kNone, 0, 0});
-    count = 0;
-  }
+  static std::uint64_t hash(Key k) { return (k * 0x9E3779B97F4A7C15ull) >> 32; }
   /// The slot of k, or null.
   const Slot* find(Key k) const {
-    for (std::uint64_t h = hash(k) & mask;; h = (h + 1) & mask) {
-      const Slot& s = slots[h];
+    const std::size_t b = bucket(k);
+    const std::uint32_t base = region[b], n = region[b + 1] - base;
+    if (n == 0) return nullptr;
+    for (std::uint64_t h = hash(k) & (n - 1);; h = (h + 1) & (n - 1)) {
+      const Slot& s = slots[base + h];
       if (s.key == k) return &s;
       if (s.key == kNone) return nullptr;
     }
   }
   bool contains(Key k) const { return find(k) != nullptr; }
-  /// Asks the memory for k's slot ahead of find(k).
-  void prefetch(Key k) const { __builtin_prefetch(&slots[hash(k) & mask]); }
 };
 
 /// The interval sign of f at a point: +1, -1 (f <= 0), or 0 when undecided.
@@ -342,51 +406,137 @@ std::int8_t point_sign(Evaluators& e, const Vec3& p) {
   return 0;
 }
 
-/// The corners of `leaves`, sorted and unique, each with what is known of its sign: -1 or +1
-/// proved by an empty leaf, or 3: to evaluate (a corner of a leaf that may hold surface, or one
-/// that only empty leaves where f may be undefined touch: a finer neighbour's corner on a face
-/// may be one, and its sign is then needed).
-std::vector<std::pair<Key, std::int8_t>> corners_of(const Grid& grid,
-                                                    const std::vector<Leaf>& leaves,
-                                                    const Exec& exec) {
-  // Each corner as (key << 2 | code): 0 proved f <= 0, 1 proved f > 0, 2 to evaluate, 3 nothing
-  // known; sorted, so that the smallest code of a key comes first and decides.
-  std::vector<std::uint64_t> all(leaves.size() * 8);
+/// Buckets of about 4 corner entries each, counted over the whole grid: most are empty (far from
+/// the surface), those near it hold a few dozen points.
+void choose_buckets(VertexTable& t, const Grid& grid, std::size_t entries) {
+  const std::uint64_t target = std::max<std::uint64_t>(1, entries / 4);
+  for (t.bucket_shift = 0;; ++t.bucket_shift) {
+    std::uint64_t total = 1;
+    for (std::size_t a = 0; a < 3; ++a) {
+      const int bits = grid.root_bits[a] + grid.max_depth;
+      t.buckets[a] = (std::uint32_t{1} << bits >> std::min(bits, t.bucket_shift)) + 1;
+      total *= t.buckets[a];
+    }
+    if (total <= target) return;
+  }
+}
+
+// Entry codes (the low 3 bits of key << 3 | code), in the order in which they decide a point:
+// the table's own points (0: f <= 0, 1: f > 0, 2: undecided), then the corners of new leaves (3:
+// an empty leaf proves f <= 0, 4: f > 0; 5: a corner of a leaf that may hold surface, 6: one that
+// only empty leaves where f may be undefined touch; both evaluated).
+constexpr std::uint64_t kFresh = 3;
+
+/// The table's points and the corners of `fresh`, as key << 3 | code, in no particular order.
+std::vector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid,
+                                         const std::vector<Leaf>& fresh, const Exec& exec) {
+  std::vector<std::uint64_t> all;
+  for (const VertexTable::Slot& s : t.slots) {
+    if (s.key == VertexTable::kNone) continue;
+    all.push_back(s.key << 3 | (s.uncertain == 2 ? 5 : (s.uncertain ? 2 : (s.sign > 0 ? 1 : 0))));
+  }
+  const std::size_t old = all.size();
+  all.resize(old + 8 * fresh.size());
   exec.run([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4096), [&](auto r) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, fresh.size(), 4096), [&](auto r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        const Leaf& l = leaves[i];
+        const Leaf& l = fresh[i];
         const std::uint32_t s = grid.size(l.depth);
         const std::uint64_t code =
-            l.kind != Kind::kEmpty ? 2 : (l.sign < 0 ? 0 : (l.sign > 0 ? 1 : 3));
+            kFresh + (l.kind != Kind::kEmpty ? 2 : (l.sign < 0 ? 0 : (l.sign > 0 ? 1 : 3)));
         for (std::uint32_t k = 0; k < 8; ++k) {
           const Key key = make_key(
               {l.at[0] + (k & 1) * s, l.at[1] + ((k >> 1) & 1) * s, l.at[2] + ((k >> 2) & 1) * s});
-          all[8 * i + k] = (key << 2) | code;
+          all[old + 8 * i + k] = (key << 3) | code;
         }
       }
     });
-    tbb::parallel_sort(all.begin(), all.end());
   });
-  std::vector<std::pair<Key, std::int8_t>> out;
-  for (std::size_t i = 0; i < all.size();) {
-    const Key key = all[i] >> 2;
-    const std::uint64_t code = all[i] & 3;
-    while (i < all.size() && (all[i] >> 2) == key) ++i;
-    out.emplace_back(key, std::int8_t(code == 0 ? -1 : (code == 1 ? 1 : 3)));
-  }
+  return all;
+}
+
+/// `entries` grouped by bucket (a counting sort); `start` gets each bucket's first entry.
+std::vector<std::uint64_t> by_bucket(const VertexTable& t,
+                                     const std::vector<std::uint64_t>& entries,
+                                     std::vector<std::uint32_t>& start, const Exec& exec) {
+  std::vector<std::uint32_t> bucket(entries.size());
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16384), [&](auto r) {
+      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+        bucket[i] = std::uint32_t(t.bucket(entries[i] >> 3));
+      }
+    });
+  });
+  start.assign(t.region.size(), 0);
+  for (const std::uint32_t b : bucket) ++start[b + 1];
+  for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+  std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
+  std::vector<std::uint64_t> out(entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) out[next[bucket[i]]++] = entries[i];
   return out;
 }
 
-/// Evaluates the signs of the table's slots listed in `todo` (sign 3), in parallel.
-void evaluate_signs(VertexTable& t, const std::vector<std::size_t>& todo, const Grid& grid,
-                    ThreadEvaluators& evals, const Exec& exec) {
+/// Keeps one entry per point of e[0..n), the one with the smallest code, in e[0..returned), through
+/// a hash table in `scratch` (one bucket's entries fit the cache).
+std::uint32_t dedupe(std::uint64_t* e, std::size_t n, std::vector<std::uint64_t>& scratch) {
+  if (n == 0) return 0;
+  std::size_t size = 2;
+  while (size < 2 * n) size *= 2;
+  scratch.assign(size, VertexTable::kNone);
+  std::uint32_t unique = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint64_t h = VertexTable::hash(e[i] >> 3) & (size - 1);
+    while (scratch[h] != VertexTable::kNone && (scratch[h] >> 3) != (e[i] >> 3)) {
+      h = (h + 1) & (size - 1);
+    }
+    if (scratch[h] == VertexTable::kNone) ++unique;
+    scratch[h] = std::min(scratch[h], e[i]);
+  }
+  std::uint32_t k = 0;
+  for (const std::uint64_t v : scratch) {
+    if (v != VertexTable::kNone) e[k++] = v;
+  }
+  return unique;
+}
+
+/// Puts entry e (a point not in the table) into the region of its bucket b, which has room.
+void put(VertexTable& t, std::uint64_t e, std::size_t b) {
+  const Key key = e >> 3;
+  const std::uint64_t code = e & 7;
+  const std::uint32_t base = t.region[b], size = t.region[b + 1] - base;
+  std::uint64_t h = VertexTable::hash(key) & (size - 1);
+  while (t.slots[base + h].key != VertexTable::kNone) h = (h + 1) & (size - 1);
+  VertexTable::Slot& s = t.slots[base + h];
+  s.key = key;
+  s.sign = (code == 1 || code == 4) ? 1 : -1;
+  s.uncertain = code == 2 ? 1 : (code >= 5 ? 2 : 0);
+}
+
+/// Adds the new points among `entries` (corners of new leaves) to the table in place: false,
+/// with some added, when a region would be more than 3/4 full (the table is then rebuilt, each
+/// region at most half full).
+bool add_in_place(VertexTable& t, std::vector<std::uint64_t>& entries) {
+  std::sort(entries.begin(), entries.end());
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (i > 0 && (entries[i - 1] >> 3) == (entries[i] >> 3)) continue;
+    if (t.contains(entries[i] >> 3)) continue;
+    const std::size_t b = t.bucket(entries[i] >> 3);
+    if (4 * (t.used[b] + 1) > 3 * (t.region[b + 1] - t.region[b])) return false;
+    put(t, entries[i], b);
+    ++t.used[b];
+  }
+  return true;
+}
+
+/// Evaluates the signs of the slots marked to evaluate, in parallel.
+void evaluate_signs(VertexTable& t, const Grid& grid, ThreadEvaluators& evals, const Exec& exec) {
   exec.run([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1024), [&](auto r) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.slots.size(), 4096), [&](auto r) {
       RoundingScope scope;
       auto& ep = evals.local();
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        VertexTable::Slot& v = t.slots[todo[i]];
+        VertexTable::Slot& v = t.slots[i];
+        if (v.key == VertexTable::kNone || v.uncertain != 2) continue;
         const std::int8_t s = point_sign(*ep, grid.point(key_point(v.key)));
         v.sign = s == 0 ? -1 : s;
         v.uncertain = s == 0;
@@ -395,32 +545,48 @@ void evaluate_signs(VertexTable& t, const std::vector<std::size_t>& todo, const 
   });
 }
 
-VertexTable build_vertices(const Grid& grid, const std::vector<Leaf>& leaves,
-                           ThreadEvaluators& evals, const Exec& exec) {
-  VertexTable t;
-  const std::vector<std::pair<Key, std::int8_t>> corners = corners_of(grid, leaves, exec);
-  t.resize(2 * corners.size());
-  std::vector<std::size_t> todo;
-  for (const auto& [key, sign] : corners) {
-    const std::size_t slot = t.put({key, sign, 0});
-    if (sign == 3) todo.push_back(slot);
-  }
-  evaluate_signs(t, todo, grid, evals, exec);
-  return t;
-}
-
-/// Adds the corners of new leaves (the refinement of split ones) to the table.
+/// Adds the corners of `fresh` (all leaves, or the refinement of split ones) to the table, each
+/// with what is known of its sign: proved by an empty leaf, else evaluated. Points already in the
+/// table keep theirs. They go into the regions in place if there is room; otherwise the table is
+/// rebuilt, in parallel over buckets.
 void add_vertices(VertexTable& t, const Grid& grid, const std::vector<Leaf>& fresh,
                   ThreadEvaluators& evals, const Exec& exec) {
-  const std::vector<std::pair<Key, std::int8_t>> corners = corners_of(grid, fresh, exec);
-  t.reserve(corners.size());
-  std::vector<std::size_t> todo;
-  for (const auto& [key, sign] : corners) {
-    if (t.contains(key)) continue;
-    const std::size_t slot = t.put({key, sign, 0});
-    if (sign == 3) todo.push_back(slot);
+  if (!t.slots.empty()) {
+    std::vector<std::uint64_t> entries = table_entries(VertexTable{}, grid, fresh, exec);
+    if (add_in_place(t, entries)) return evaluate_signs(t, grid, evals, exec);
   }
-  evaluate_signs(t, todo, grid, evals, exec);
+  std::vector<std::uint64_t> entries = table_entries(t, grid, fresh, exec);
+  VertexTable n;
+  choose_buckets(n, grid, entries.size());
+  n.region.assign(std::size_t{n.buckets[0]} * n.buckets[1] * n.buckets[2] + 1, 0);
+  std::vector<std::uint32_t> start;
+  entries = by_bucket(n, entries, start, exec);
+  const std::size_t nb = n.region.size() - 1;
+  std::vector<std::uint32_t> unique(nb, 0);
+  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> scratch;
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](auto r) {
+      for (std::size_t b = r.begin(); b < r.end(); ++b) {
+        unique[b] = dedupe(entries.data() + start[b], start[b + 1] - start[b], scratch.local());
+      }
+    });
+  });
+  for (std::size_t b = 0; b < nb; ++b) {
+    std::uint32_t size = unique[b] == 0 ? 0 : 2;
+    while (size < 2 * unique[b]) size *= 2;
+    n.region[b + 1] = n.region[b] + size;
+  }
+  n.slots.assign(n.region.back(), VertexTable::Slot{VertexTable::kNone, 0, 0});
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](auto r) {
+      for (std::size_t b = r.begin(); b < r.end(); ++b) {
+        for (std::size_t i = 0; i < unique[b]; ++i) put(n, entries[start[b] + i], b);
+      }
+    });
+  });
+  n.used = std::move(unique);
+  t = std::move(n);
+  evaluate_signs(t, grid, evals, exec);
 }
 
 /// A mesh vertex on an edge piece: its id (lower end's key and axis), and its ends.
@@ -471,13 +637,6 @@ class Extractor {
   bool quiet() {
     const Index3& p = leaf_.at;
     const std::uint32_t s = size_, h = s / 2;
-    // The lookups below miss the cache, independently: start them all at once.
-    for (std::uint32_t k = 0; k < 27; ++k) {
-      const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
-      Index3 q;
-      for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
-      table_.prefetch(make_key(q));
-    }
     finer_ = false;
     bool same = true;
     for (std::uint32_t k = 0; k < 8; ++k) {
@@ -885,12 +1044,17 @@ Grid make_grid(const CertifiedMeshSettings& s) {
 std::vector<Leaf> refine_all(const Refiner& r, const std::vector<std::pair<Index3, int>>& cells,
                              ThreadEvaluators& evals, const Exec& exec) {
   std::vector<std::vector<Leaf>> parts(cells.size());
+  // Few cells (a scene of one root cell): their top levels split in parallel too, so that there
+  // are at least 256 tasks.
+  int levels = 0;
+  while (levels < 3 && (cells.size() << (3 * levels)) < 256) ++levels;
   exec.run([&] {
     tbb::parallel_for(std::size_t{0}, cells.size(), [&](std::size_t i) {
       RoundingScope scope;
-      r.refine(*evals.local(), cells[i].first, cells[i].second, parts[i]);
+      r.refine_parallel(evals, cells[i].first, cells[i].second, levels, parts[i]);
     });
   });
+  for (auto& e : evals) r.flush(*e);
   std::vector<Leaf> out;
   for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   return out;
@@ -1076,17 +1240,50 @@ std::vector<char> touching(const Grid& grid, const std::vector<Leaf>& leaves,
   return mark;
 }
 
+/// Welds the crossings of all leaves by id into the soup's first vertices, in the order of their
+/// ids (every leaf that shares a crossing placed it at the same point, so which copy is kept is
+/// moot). Returns the vertex of each crossing, numbered leaf by leaf; `first` gets the number
+/// of each leaf's first crossing.
+std::vector<std::uint32_t> weld(const Round& r, const Exec& exec, TriangleSoup& soup,
+                                std::vector<std::uint32_t>& first) {
+  std::uint32_t n = 0;
+  first.resize(r.outs.size());
+  for (std::size_t i = 0; i < r.outs.size(); ++i) {
+    first[i] = n;
+    n += std::uint32_t(r.outs[i].crossings.size());
+  }
+  std::vector<std::pair<Key, std::uint32_t>> ids(n);  // crossing id, its number
+  std::vector<const Vec3*> at(n);
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, r.outs.size(), 1024), [&](auto range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        const CellOut& o = r.outs[i];
+        for (std::uint32_t k = 0; k < o.crossings.size(); ++k) {
+          ids[first[i] + k] = {o.crossings[k].first, first[i] + k};
+          at[first[i] + k] = &o.crossings[k].second;
+        }
+      }
+    });
+    tbb::parallel_sort(ids.begin(), ids.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+  });
+  std::vector<std::uint32_t> vertex(n);
+  for (std::size_t j = 0; j < ids.size(); ++j) {
+    if (j == 0 || ids[j].first != ids[j - 1].first) soup.vertices.push_back(*at[ids[j].second]);
+    vertex[ids[j].second] = std::uint32_t(soup.vertices.size() - 1);
+  }
+  return vertex;
+}
+
 /// Joins the leaves' pieces into one mesh (crossings welded by id) and fills the statistics.
 void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r, bool strict,
-              CertifiedMesh& m) {
-  std::vector<std::pair<Key, Vec3>> all;
-  for (const CellOut& o : r.outs) all.insert(all.end(), o.crossings.begin(), o.crossings.end());
-  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  all.erase(std::unique(all.begin(), all.end(),
-                        [](const auto& a, const auto& b) { return a.first == b.first; }),
-            all.end());
+              const Exec& exec, CertifiedMesh& m) {
   TriangleSoup& soup = m.soup;
-  for (const auto& c : all) soup.vertices.push_back(c.second);
+  std::vector<std::uint32_t> first_crossing;
+  const std::vector<std::uint32_t> vertex = weld(r, exec, soup, first_crossing);
+  // Per leaf, its first centre vertex and first triangle in the soup.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> first(leaves.size() + 1);
+  std::uint32_t vertices = std::uint32_t(soup.vertices.size()), triangles = 0;
   CertifiedMeshStats& st = m.stats;
   RoundingScope scope;
   double certified_diagonal = 0;  // over certified leaves that may hold surface
@@ -1098,6 +1295,11 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
       continue;
     }
     const CellOut& o = r.outs[i];
+    first[i] = {vertices, triangles};
+    if (!o.triangles.empty()) {
+      vertices += std::uint32_t(o.centres.size());
+      triangles += std::uint32_t(o.triangles.size());
+    }
     const Box3 box = grid.box(l.at, grid.size(l.depth));
     const bool certified = l.kind == Kind::kCertified && !o.split && !o.blocked && !o.uncertain;
     if (certified) {
@@ -1114,20 +1316,26 @@ void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r,
     if (certified && !o.triangles.empty()) {
       st.mesh_to_surface = std::fmax(st.mesh_to_surface, diagonal);
     }
-    if (o.triangles.empty()) continue;
-    std::vector<std::uint32_t> map(o.crossings.size() + o.centres.size());
-    for (std::size_t k = 0; k < o.crossings.size(); ++k) {
-      const auto it =
-          std::lower_bound(all.begin(), all.end(), o.crossings[k],
-                           [](const auto& a, const auto& b) { return a.first < b.first; });
-      map[k] = std::uint32_t(it - all.begin());
-    }
-    for (std::size_t k = 0; k < o.centres.size(); ++k) {
-      map[o.crossings.size() + k] = std::uint32_t(soup.vertices.size());
-      soup.vertices.push_back(o.centres[k]);
-    }
-    for (const auto& t : o.triangles) soup.triangles.push_back({map[t[0]], map[t[1]], map[t[2]]});
   }
+  soup.vertices.resize(vertices);
+  soup.triangles.resize(triangles);
+  exec.run([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 1024), [&](auto range) {
+      std::vector<std::uint32_t> map;
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        const CellOut& o = r.outs[i];
+        if (leaves[i].kind == Kind::kEmpty || o.triangles.empty()) continue;
+        map.resize(o.crossings.size() + o.centres.size());
+        for (std::size_t k = 0; k < o.crossings.size(); ++k) map[k] = vertex[first_crossing[i] + k];
+        for (std::size_t k = 0; k < o.centres.size(); ++k) {
+          map[o.crossings.size() + k] = first[i].first + std::uint32_t(k);
+          soup.vertices[first[i].first + k] = o.centres[k];
+        }
+        std::size_t at = first[i].second;
+        for (const auto& t : o.triangles) soup.triangles[at++] = {map[t[0]], map[t[1]], map[t[2]]};
+      }
+    });
+  });
   for (const auto& v : r.table.slots)
     st.uncertain_corners += v.key != VertexTable::kNone && v.uncertain;
   st.surface_to_mesh = strict ? st.mesh_to_surface : certified_diagonal + st.mesh_to_surface;
@@ -1181,7 +1389,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   lap(st.seconds_refine);
   // Round 1 extracts every leaf; later rounds only the new leaves and those touching a split one.
   Round r;
-  r.table = build_vertices(grid, leaves, evals, exec);
+  add_vertices(r.table, grid, leaves, evals, exec);
   lap(st.seconds_table);
   r.outs.resize(leaves.size());
   extract_all(grid, leaves, r.table, settings, evals, exec, r.outs);
@@ -1207,7 +1415,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
     r.outs = std::move(outs);
     lap(st.seconds_extract);
   }
-  assemble(grid, leaves, r, settings.strict, m);
+  assemble(grid, leaves, r, settings.strict, exec, m);
   st.leaves = leaves.size();
   st.roots = certified_root_cells(settings);
   for (const auto& e : evals) st.interval_evaluations += e->evaluations;
