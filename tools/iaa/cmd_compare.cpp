@@ -30,11 +30,10 @@ struct CompareOptions {
   bool quiet = false;
 };
 
-void run(const CompareOptions& o) {
-  if (o.threads < 0)
-    throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
+/// Throws when this build cannot read or ray-cast meshes, naming exactly the option(s) it
+/// switched off.
+void check_build() {
 #if !defined(IAA_HAVE_CGAL) || !defined(IAA_HAVE_OPENMESH)
-  // Names exactly the option(s) this build switched off.
   std::string missing;
 #ifndef IAA_HAVE_CGAL
   missing = "CGAL (IAA_WITH_CGAL=OFF)";
@@ -45,7 +44,15 @@ void run(const CompareOptions& o) {
 #endif
   throw Error("this iaa was built without " + missing +
               ": meshes cannot be read or ray-cast, no file was written");
-#else
+#endif
+}
+
+/// Everything that can be checked before the scene and mesh are read, so that the command fails
+/// before its work rather than after it.
+void check_options(const CompareOptions& o) {
+  if (o.threads < 0)
+    throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
+  check_build();
   if (app::extension_of(o.output) != "png") {
     throw Error("-o: the diff picture must be a .png file, got '" + o.output + "'");
   }
@@ -54,29 +61,58 @@ void run(const CompareOptions& o) {
   }
   if (o.rays < 1 || o.rays > 16)
     throw SettingError("--rays must be in 1..16, got " + std::to_string(o.rays));
-  const Scene scene = app::load_scene(o.scene, o.sets);
+}
+
+#if defined(IAA_HAVE_CGAL) && defined(IAA_HAVE_OPENMESH)
+/// The scene (with its --set overrides) and the mesh to set against it.
+struct Inputs {
+  Scene scene;
+  TriangleSoup mesh;
+};
+
+Inputs load(const CompareOptions& o) {
+  Scene scene = app::load_scene(o.scene, o.sets);
   const MeshFormat format = mesh_format_from_extension(app::extension_of(o.mesh));
   // Held as an OpenMesh TriMesh on reading; cast as plain triangles (exact in PLY files written
   // by iaa mesh, float from other files).
-  const TriangleSoup mesh = decode_mesh(app::read_file(o.mesh), format, o.mesh).triangles();
+  TriangleSoup mesh = decode_mesh(app::read_file(o.mesh), format, o.mesh).triangles();
   check_mesh(mesh, o.mesh);
+  return {std::move(scene), std::move(mesh)};
+}
 
+/// The IAA render, the mesh's ray cast of the same view, their per-pixel comparison and the time
+/// each took.
+struct Views {
+  Film film;
+  MeshView view;
+  Comparison cmp;
+  double t_render = 0;
+  double t_cast = 0;
+};
+
+Views cast_both(const CompareOptions& o, const Inputs& in) {
   app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
-  RenderSettings rs = scene.settings;
+  RenderSettings rs = in.scene.settings;
   rs.method = RenderMethod::kIaa;  // the certificates come from IAA
+  Views v;
   const auto t0 = std::chrono::steady_clock::now();
-  const Film film = render(scene, rs, exec);
-  const double t_render = meshing::seconds_since(t0);
+  v.film = render(in.scene, rs, exec);
+  v.t_render = meshing::seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
-  const MeshView view = view_mesh(mesh, scene, o.rays, exec);
-  const double t_cast = meshing::seconds_since(t1);
-  const Comparison cmp = compare_with_film(film, view.any);
+  v.view = view_mesh(in.mesh, in.scene, o.rays, exec);
+  v.t_cast = meshing::seconds_since(t1);
+  v.cmp = compare_with_film(v.film, v.view.any);
   bar.finish();
+  return v;
+}
 
-  const std::vector<Rgb> pic = diff_picture(film, cmp);
+/// The diff picture (-o) as an 8-bit PNG.
+void write_diff_png(const std::string& path, const Views& v) {
+  const Film& film = v.film;
+  const std::vector<Rgb> pic = diff_picture(film, v.cmp);
   app::Image8 img(film.width, film.height, 3);
   for (int y = 0; y < film.height; ++y) {
     for (int x = 0; x < film.width; ++x) {
@@ -85,11 +121,14 @@ void run(const CompareOptions& o) {
       p[0] = app::to_byte(c.r), p[1] = app::to_byte(c.g), p[2] = app::to_byte(c.b);
     }
   }
-  app::write_png(o.output, img);
+  app::write_png(path, img);
+}
 
-  const CompareCounts& k = cmp.counts;
-  std::printf("scene        %s (%dx%d), mesh %s: %zu triangles\n", scene.name.c_str(), film.width,
-              film.height, o.mesh.c_str(), mesh.triangles.size());
+/// The summary on stdout: the counts per verdict, the times and what was written.
+void print_summary(const CompareOptions& o, const Inputs& in, const Views& v) {
+  const CompareCounts& k = v.cmp.counts;
+  std::printf("scene        %s (%dx%d), mesh %s: %zu triangles\n", in.scene.name.c_str(),
+              v.film.width, v.film.height, o.mesh.c_str(), in.mesh.triangles.size());
   std::printf("lost         %llu pixels (IAA certifies surface, the mesh shows none)\n",
               (unsigned long long)k.lost);
   std::printf("wrong        %llu pixels (IAA certifies empty, the mesh shows surface)\n",
@@ -99,43 +138,58 @@ void run(const CompareOptions& o) {
   std::printf("uncertain    %llu pixels IAA could not decide: %llu with mesh, %llu without\n",
               (unsigned long long)(k.uncertain_mesh + k.uncertain_empty),
               (unsigned long long)k.uncertain_mesh, (unsigned long long)k.uncertain_empty);
-  std::printf("time         render %.3f s, mesh cast %.3f s\n", t_render, t_cast);
+  std::printf("time         render %.3f s, mesh cast %.3f s\n", v.t_render, v.t_cast);
   std::printf("wrote        %s (red: lost, blue: wrong, amber: undecided without mesh)\n",
               o.output.c_str());
-  if (!o.report.empty()) {
-    double cov = 0;
-    for (float c : view.coverage) cov += c;
-    nlohmann::json j = {{"scene", scene.name},
-                        {"mesh", o.mesh},
-                        {"width", film.width},
-                        {"height", film.height},
-                        {"triangles", mesh.triangles.size()},
-                        {"rays_per_pixel", o.rays * o.rays},
-                        {"pixels", k.pixels},
-                        {"lost", k.lost},
-                        {"wrong", k.wrong},
-                        {"both_surface", k.both_surface},
-                        {"both_empty", k.both_empty},
-                        {"uncertain_with_mesh", k.uncertain_mesh},
-                        {"uncertain_without_mesh", k.uncertain_empty},
-                        {"mesh_covered_area_pixels", cov},
-                        {"iaa_covered_area_pixels", film.stats.covered_area},
-                        {"seconds_render", t_render},
-                        {"seconds_mesh_cast", t_cast}};
-    // Where they are (up to 1000 each), to look at one with `iaa inspect --pixel X,Y`.
-    nlohmann::json lost = nlohmann::json::array(), wrong = nlohmann::json::array();
-    for (int y = 0; y < film.height; ++y) {
-      for (int x = 0; x < film.width; ++x) {
-        const PixelAgreement a = cmp.pixel[film.index(x, y)];
-        if (a == PixelAgreement::kLost && lost.size() < 1000) lost.push_back({x, y});
-        if (a == PixelAgreement::kWrong && wrong.size() < 1000) wrong.push_back({x, y});
-      }
+}
+
+/// The --report JSON: the summary's figures and where the lost and wrong pixels are.
+void write_report(const CompareOptions& o, const Inputs& in, const Views& v) {
+  const Film& film = v.film;
+  const CompareCounts& k = v.cmp.counts;
+  double cov = 0;
+  for (float c : v.view.coverage) cov += c;
+  nlohmann::json j = {{"scene", in.scene.name},
+                      {"mesh", o.mesh},
+                      {"width", film.width},
+                      {"height", film.height},
+                      {"triangles", in.mesh.triangles.size()},
+                      {"rays_per_pixel", o.rays * o.rays},
+                      {"pixels", k.pixels},
+                      {"lost", k.lost},
+                      {"wrong", k.wrong},
+                      {"both_surface", k.both_surface},
+                      {"both_empty", k.both_empty},
+                      {"uncertain_with_mesh", k.uncertain_mesh},
+                      {"uncertain_without_mesh", k.uncertain_empty},
+                      {"mesh_covered_area_pixels", cov},
+                      {"iaa_covered_area_pixels", film.stats.covered_area},
+                      {"seconds_render", v.t_render},
+                      {"seconds_mesh_cast", v.t_cast}};
+  // Where they are (up to 1000 each), to look at one with `iaa inspect --pixel X,Y`.
+  nlohmann::json lost = nlohmann::json::array(), wrong = nlohmann::json::array();
+  for (int y = 0; y < film.height; ++y) {
+    for (int x = 0; x < film.width; ++x) {
+      const PixelAgreement a = v.cmp.pixel[film.index(x, y)];
+      if (a == PixelAgreement::kLost && lost.size() < 1000) lost.push_back({x, y});
+      if (a == PixelAgreement::kWrong && wrong.size() < 1000) wrong.push_back({x, y});
     }
-    j["lost_at"] = lost;
-    j["wrong_at"] = wrong;
-    app::write_text_atomically(o.report, j.dump(2) + "\n");
-    std::printf("report       %s\n", o.report.c_str());
   }
+  j["lost_at"] = lost;
+  j["wrong_at"] = wrong;
+  app::write_text_atomically(o.report, j.dump(2) + "\n");
+  std::printf("report       %s\n", o.report.c_str());
+}
+#endif
+
+void run(const CompareOptions& o) {
+  check_options(o);
+#if defined(IAA_HAVE_CGAL) && defined(IAA_HAVE_OPENMESH)
+  const Inputs in = load(o);
+  const Views v = cast_both(o, in);
+  write_diff_png(o.output, v);
+  print_summary(o, in, v);
+  if (!o.report.empty()) write_report(o, in, v);
 #endif
 }
 
