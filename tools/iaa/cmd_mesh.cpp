@@ -84,63 +84,58 @@ void add_certificate(nlohmann::json& j, const meshing::MeshRun& run, const Mesh&
   j.update(meshing::topology_json(mesh.triangles()));
 }
 
-void run(const MeshOptions& o) {
-  if (o.threads < 0)
-    throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
-  [[maybe_unused]] const meshing::Method method = meshing::parse_mesh_method(o.method);
-#ifndef IAA_HAVE_OPENMESH
-  throw Error(
-      "this iaa was built without OpenMesh (IAA_WITH_OPENMESH=OFF): meshes cannot be written");
-#else
-  const MeshFormat format = mesh_format_from_extension(app::extension_of(o.output));
+#ifdef IAA_HAVE_OPENMESH
+/// The output checks that need no surface: the --report name and --uncertified's use.
+void check_outputs(const MeshOptions& o, meshing::Method method) {
   if (!o.report.empty() && app::extension_of(o.report) != "json") {
     throw Error("--report: the report must be a .json file, got '" + o.report + "'");
   }
   check_uncertified_option(o, method);
-  const meshing::Surface surface =
-      meshing::load_surface(o.scene, o.expr, o.bounds, o.params, o.sets);
-  o.p.validate();
+}
 
-  app::ProgressBar bar(o.quiet);
-  Exec exec;
-  exec.threads = o.threads;
-  exec.progress = &bar;
-  meshing::MeshRun run = meshing::run_mesher(method, surface, o.p, exec);
-  if (run.soup.triangles.empty()) {
-    std::string why = "the " + std::string(meshing::method_label(method)) +
-                      " mesher found no surface (no sign change of f was seen)";
-    if (!run.uncertified.empty()) {
-      why += "; " + std::to_string(run.uncertified.size()) +
-             " uncertified cells may hold surface where f touches 0 without changing sign";
-    }
-    if (run.details.contains("unmeshed_possible_leaves") &&
-        run.details["unmeshed_possible_leaves"] > 0) {
-      why += "; " + run.details["unmeshed_possible_leaves"].dump() +
-             " possible leaves may hold surface where f touches 0 without changing sign";
-    }
-    throw Error(why + "; no file was written");
+/// Fails, writing nothing, when the mesher produced no triangle, saying which cells or leaves may
+/// still hold surface.
+void check_found_surface(const meshing::MeshRun& run, meshing::Method method) {
+  if (!run.soup.triangles.empty()) return;
+  std::string why = "the " + std::string(meshing::method_label(method)) +
+                    " mesher found no surface (no sign change of f was seen)";
+  if (!run.uncertified.empty()) {
+    why += "; " + std::to_string(run.uncertified.size()) +
+           " uncertified cells may hold surface where f touches 0 without changing sign";
   }
-  // One OpenMesh TriMesh (double points) from here on: the report is computed on it and the file
-  // written from it. The report judges the mesher's double coordinates; a PLY file holds them
-  // exactly (x_double ...), an OBJ or OFF file their float rounding (mesh_io.h).
-  const Mesh mesh = Mesh::from_triangles(run.soup);
-  run.soup = {};
-  const std::size_t duplicated = mesh.duplicated_vertices();
+  if (run.details.contains("unmeshed_possible_leaves") &&
+      run.details["unmeshed_possible_leaves"] > 0) {
+    why += "; " + run.details["unmeshed_possible_leaves"].dump() +
+           " possible leaves may hold surface where f touches 0 without changing sign";
+  }
+  throw Error(why + "; no file was written");
+}
+
+/// Writes the mesh file and, with --uncertified, the boxes of the uncertified cells.
+void write_files(const MeshOptions& o, MeshFormat format, const Mesh& mesh,
+                 const meshing::MeshRun& run, const meshing::Surface& surface) {
   const std::string bytes = encode_mesh(mesh, format, o.binary);
   app::write_text_atomically(o.output, bytes);
   if (!o.uncertified.empty()) write_uncertified(o.uncertified, run, surface);
+}
 
+/// The mesh's topology and fit; checked against the enclosure only for a --report of a mesher
+/// other than the certified one (which reports its own certificate instead), enclosing the
+/// surface here when the mesher did not.
+MeshReport analyze(const MeshOptions& o, meshing::Method method, const meshing::Surface& surface,
+                   const Mesh& mesh, meshing::MeshRun& run, const Exec& exec) {
   std::optional<Enclosure> enc = std::move(run.enclosure);
-  MeshReport rep;
-  const bool certified = method == meshing::Method::kCertified;
-  if (!o.report.empty() && !certified) {
+  if (!o.report.empty() && method != meshing::Method::kCertified) {
     if (!enc) enc = enclose(*surface.tape, o.p.enclose_settings(surface.bounds), exec);
-    rep = analyze_mesh(mesh, surface.tape.get(), &*enc);
-  } else {
-    rep = analyze_mesh(mesh, surface.tape.get(), nullptr);
+    return analyze_mesh(mesh, surface.tape.get(), &*enc);
   }
-  bar.finish();
+  return analyze_mesh(mesh, surface.tape.get(), nullptr);
+}
 
+/// The summary on stdout: the surface, the mesher, the mesh's topology and fit, the certificate
+/// (certified mesher) and what was written.
+void print_summary(const MeshOptions& o, meshing::Method method, const meshing::Surface& surface,
+                   const meshing::MeshRun& run, const MeshReport& rep, std::size_t duplicated) {
   std::printf("surface      %s\n", surface.expression.c_str());
   std::printf("method       %s\n", run.summary.c_str());
   std::printf("time         %.3f s\n", run.seconds);
@@ -160,32 +155,72 @@ void run(const MeshOptions& o) {
     std::printf("unmeshed     %s possible leaves show no sign change: surface may touch 0 there\n",
                 run.details["unmeshed_possible_leaves"].dump().c_str());
   }
-  if (certified) print_certificate(run);
+  if (method == meshing::Method::kCertified) print_certificate(run);
   if (duplicated) {
     std::printf("note         %zu vertices duplicated to write non-manifold triangles\n",
                 duplicated);
   }
   std::printf("wrote        %s\n", o.output.c_str());
-  if (!o.report.empty()) {
-    nlohmann::json j = meshing::report_json(rep);
-    j["method"] = meshing::method_label(method);
-    j["surface"] = surface.expression;
-    j["seconds"] = run.seconds;
-    j["settings"] = run.details;
-    j["mesh_file"] = o.output;
-    j["vertices_duplicated_on_write"] = duplicated;
+}
+
+/// The --report JSON: the summary's figures, the mesher's settings, the self-intersections and
+/// how the file holds the coordinates.
+void write_report(const MeshOptions& o, meshing::Method method, MeshFormat format,
+                  const meshing::Surface& surface, const meshing::MeshRun& run,
+                  const MeshReport& rep, const Mesh& mesh, std::size_t duplicated) {
+  nlohmann::json j = meshing::report_json(rep);
+  j["method"] = meshing::method_label(method);
+  j["surface"] = surface.expression;
+  j["seconds"] = run.seconds;
+  j["settings"] = run.details;
+  j["mesh_file"] = o.output;
+  j["vertices_duplicated_on_write"] = duplicated;
 #ifdef IAA_HAVE_CGAL
-    j["self_intersections"] = count_self_intersections(mesh.triangles());
+  j["self_intersections"] = count_self_intersections(mesh.triangles());
 #else
-    j["self_intersections"] = nullptr;  // counted with CGAL, left out of this build
+  j["self_intersections"] = nullptr;  // counted with CGAL, left out of this build
 #endif
-    if (certified) add_certificate(j, run, mesh);
-    j["mesh_file_coordinates"] = format == MeshFormat::kPly
-                                     ? "float x y z, and exact double x_double y_double z_double"
-                                     : "float x y z (rounded from the mesher's double)";
-    app::write_text_atomically(o.report, j.dump(2) + "\n");
-    std::printf("report       %s\n", o.report.c_str());
-  }
+  if (method == meshing::Method::kCertified) add_certificate(j, run, mesh);
+  j["mesh_file_coordinates"] = format == MeshFormat::kPly
+                                   ? "float x y z, and exact double x_double y_double z_double"
+                                   : "float x y z (rounded from the mesher's double)";
+  app::write_text_atomically(o.report, j.dump(2) + "\n");
+  std::printf("report       %s\n", o.report.c_str());
+}
+#endif
+
+void run(const MeshOptions& o) {
+  if (o.threads < 0)
+    throw SettingError("--threads must be 0 (all) or more, got " + std::to_string(o.threads));
+  [[maybe_unused]] const meshing::Method method = meshing::parse_mesh_method(o.method);
+#ifndef IAA_HAVE_OPENMESH
+  throw Error(
+      "this iaa was built without OpenMesh (IAA_WITH_OPENMESH=OFF): meshes cannot be written");
+#else
+  const MeshFormat format = mesh_format_from_extension(app::extension_of(o.output));
+  check_outputs(o, method);
+  const meshing::Surface surface =
+      meshing::load_surface(o.scene, o.expr, o.bounds, o.params, o.sets);
+  o.p.validate();
+
+  app::ProgressBar bar(o.quiet);
+  Exec exec;
+  exec.threads = o.threads;
+  exec.progress = &bar;
+  meshing::MeshRun run = meshing::run_mesher(method, surface, o.p, exec);
+  check_found_surface(run, method);
+  // One OpenMesh TriMesh (double points) from here on: the report is computed on it and the file
+  // written from it. The report judges the mesher's double coordinates; a PLY file holds them
+  // exactly (x_double ...), an OBJ or OFF file their float rounding (mesh_io.h).
+  const Mesh mesh = Mesh::from_triangles(run.soup);
+  run.soup = {};
+  const std::size_t duplicated = mesh.duplicated_vertices();
+  write_files(o, format, mesh, run, surface);
+  const MeshReport rep = analyze(o, method, surface, mesh, run, exec);
+  bar.finish();
+
+  print_summary(o, method, surface, run, rep, duplicated);
+  if (!o.report.empty()) write_report(o, method, format, surface, run, rep, mesh, duplicated);
 #endif
 }
 
