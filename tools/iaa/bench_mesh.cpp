@@ -33,20 +33,18 @@ struct Options {
   std::string json;
 };
 
-void run(const Options& o) {
-#if !defined(IAA_HAVE_CGAL) || !defined(IAA_HAVE_OPENMESH)
-  throw Error("iaa bench mesh needs CGAL and OpenMesh (this iaa was built without them)");
-#else
+#if defined(IAA_HAVE_CGAL) && defined(IAA_HAVE_OPENMESH)
+/// Everything checked before the table's header is printed.
+void check_options(const Options& o) {
   if (o.runs < 1 || o.runs > 50)
     throw SettingError("--runs must be in 1..50, got " + std::to_string(o.runs));
   if (o.image < 8 || o.image > 4000)
     throw SettingError("--image must be in 8..4000, got " + std::to_string(o.image));
-  o.p.validate();  // before the table's header
-  const std::string dir = find_scene_dir(o.scene_dir);
-  std::vector<meshing::Method> methods;
-  for (const std::string& m : o.methods) methods.push_back(meshing::parse_mesh_method(m));
-  Exec exec;
-  exec.threads = o.threads;
+  o.p.validate();
+}
+
+/// The settings line and the table's column heads.
+void print_header(const Options& o, const Exec& exec) {
   std::printf(
       "resolution %d (octree depth %d + refine %d, vtk grid %d, cgal facet size edge/%d), "
       "images %dx%d, %d threads\n",
@@ -54,112 +52,170 @@ void run(const Options& o) {
       o.p.resolution, o.image, o.image, exec.resolved_threads());
   std::printf("%-11s %-7s %9s %10s %8s %8s %10s  %s\n", "surface", "method", "time s", "triangles",
               "lost px", "wrong px", "undecided", "notes");
-  nlohmann::json out = nlohmann::json::array();
-  for (const std::string& name : o.surfaces) {
-    const std::string path = dir + "/" + name + ".toml";
-    const std::string size = std::to_string(o.image);
-    Scene scene = app::load_scene(path, {"image.width=" + size, "image.height=" + size});
-    meshing::Surface s;
-    s.name = scene.name;
-    s.expression = scene.expression;
-    s.tape = scene.tape;
-    s.bounds = scene.bounds;
-    RenderSettings rs = scene.settings;
-    rs.method = RenderMethod::kIaa;
-    const Film film = o.no_compare ? Film{} : render(scene, rs, exec);
-    double certified_seconds = 0;
-    for (meshing::Method m : methods) {
-      // Median time over runs (CGAL, the slowest, once); the mesh of the last run is compared.
-      const int runs = m == meshing::Method::kCgal ? 1 : o.runs;
-      std::vector<double> times;
-      static const char* kPhases[] = {"seconds_enclose", "seconds_signs", "seconds_extract",
-                                      "seconds_vertices"};
-      std::vector<std::vector<double> > phases(4);
-      meshing::MeshRun last;
-      for (int r = 0; r < runs; ++r) {
-        last = meshing::run_mesher(m, s, o.p, exec);
-        times.push_back(last.seconds);
-        for (int ph = 0; ph < 4; ++ph) {
-          if (last.details.contains(kPhases[ph]))
-            phases[ph].push_back(last.details[kPhases[ph]].get<double>());
-        }
-      }
-      const auto median = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v[v.size() / 2];
-      };
-      const double t = median(times);
-      round_to_file_precision(last.soup);
-      CompareCounts k;
-      if (!o.no_compare) {
-        if (!last.soup.empty())
-          k = compare_with_film(film, view_mesh(last.soup, scene, 1, exec).any).counts;
-        else
-          k.lost = film.stats.covered;
-      }
-      std::string notes;
-      if (last.details.contains("unmeshed_possible_leaves")) {
-        notes = last.details["unmeshed_possible_leaves"].dump() + " possible leaves unmeshed";
-      }
-      if (m == meshing::Method::kCertified) {
-        certified_seconds = t;
-        notes = last.details["uncertified_leaves"].dump() + " uncertified cells, depth " +
-                last.details["min_depth"].dump() + ".." + last.details["finest_depth"].dump();
-      }
-      if (m == meshing::Method::kVtk && certified_seconds > 0) {
-        char buf[64];
-        std::snprintf(buf, sizeof buf, "certified/vtk time %.2fx", certified_seconds / t);
-        notes = buf;
-      }
-      if (!phases[0].empty()) {  // the octree's phases, medians over the runs
-        char buf[96];
-        std::snprintf(buf, sizeof buf, "; phases %.3f/%.3f/%.3f/%.3f s", median(phases[0]),
-                      median(phases[1]), median(phases[2]), median(phases[3]));
-        notes += buf;
-      }
-      std::printf("%-11s %-7s %9.3f %10zu %8llu %8llu %10llu  %s\n", name.c_str(),
-                  meshing::method_label(m), t, last.soup.triangles.size(),
-                  (unsigned long long)k.lost, (unsigned long long)k.wrong,
-                  (unsigned long long)k.uncertain_empty, notes.c_str());
-      std::fflush(stdout);
-      out.push_back({{"surface", name},
-                     {"method", meshing::method_label(m)},
-                     {"seconds_median", t},
-                     {"runs", runs},
-                     {"triangles", last.soup.triangles.size()},
-                     {"lost_pixels", k.lost},
-                     {"wrong_pixels", k.wrong},
-                     {"undecided_without_mesh", k.uncertain_empty},
-                     {"iaa_covered_pixels", film.stats.covered},
-                     {"settings", last.details}});
+}
+
+/// The scene's surface as the meshers take it.
+meshing::Surface surface_of(const Scene& scene) {
+  meshing::Surface s;
+  s.name = scene.name;
+  s.expression = scene.expression;
+  s.tape = scene.tape;
+  s.bounds = scene.bounds;
+  return s;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+/// One mesher's timed runs: the median time, the octree's phase times per run and the last
+/// run's mesh (the one compared).
+struct Timed {
+  int runs = 0;
+  double seconds = 0;
+  std::vector<std::vector<double> > phases;
+  meshing::MeshRun last;
+};
+
+/// Runs the mesher --runs times (CGAL, the slowest, once) and takes the median time.
+Timed time_mesher(const Options& o, meshing::Method m, const meshing::Surface& s,
+                  const Exec& exec) {
+  static const char* kPhases[] = {"seconds_enclose", "seconds_signs", "seconds_extract",
+                                  "seconds_vertices"};
+  Timed tm;
+  tm.runs = m == meshing::Method::kCgal ? 1 : o.runs;
+  tm.phases.resize(4);
+  std::vector<double> times;
+  for (int r = 0; r < tm.runs; ++r) {
+    tm.last = meshing::run_mesher(m, s, o.p, exec);
+    times.push_back(tm.last.seconds);
+    for (int ph = 0; ph < 4; ++ph) {
+      if (tm.last.details.contains(kPhases[ph]))
+        tm.phases[ph].push_back(tm.last.details[kPhases[ph]].get<double>());
     }
   }
-  // CGAL Mesh_3's thread scaling: the first surface at half the resolution, 1 thread and all.
+  tm.seconds = median(times);
+  return tm;
+}
+
+/// The mesh (rounded as a file would hold it) set against the IAA render; an empty mesh loses
+/// every pixel IAA covers.
+CompareCounts compare_mesh(const Options& o, TriangleSoup& soup, const Film& film,
+                           const Scene& scene, const Exec& exec) {
+  round_to_file_precision(soup);
+  CompareCounts k;
+  if (!o.no_compare) {
+    if (!soup.empty())
+      k = compare_with_film(film, view_mesh(soup, scene, 1, exec).any).counts;
+    else
+      k.lost = film.stats.covered;
+  }
+  return k;
+}
+
+/// The row's notes: what the mesher left unmeshed or uncertified, certified against VTK's time,
+/// and the octree's phases.
+std::string notes_for(meshing::Method m, const Timed& tm, double certified_seconds) {
+  const nlohmann::json& d = tm.last.details;
+  std::string notes;
+  if (d.contains("unmeshed_possible_leaves")) {
+    notes = d["unmeshed_possible_leaves"].dump() + " possible leaves unmeshed";
+  }
+  if (m == meshing::Method::kCertified) {
+    notes = d["uncertified_leaves"].dump() + " uncertified cells, depth " + d["min_depth"].dump() +
+            ".." + d["finest_depth"].dump();
+  }
+  if (m == meshing::Method::kVtk && certified_seconds > 0) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "certified/vtk time %.2fx", certified_seconds / tm.seconds);
+    notes = buf;
+  }
+  if (!tm.phases[0].empty()) {  // the octree's phases, medians over the runs
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "; phases %.3f/%.3f/%.3f/%.3f s", median(tm.phases[0]),
+                  median(tm.phases[1]), median(tm.phases[2]), median(tm.phases[3]));
+    notes += buf;
+  }
+  return notes;
+}
+
+/// Every mesher on one surface: a table row each (printed as soon as it is done) and a JSON row.
+void bench_surface(const Options& o, const std::string& dir, const std::string& name,
+                   const std::vector<meshing::Method>& methods, const Exec& exec,
+                   nlohmann::json& out) {
+  const std::string size = std::to_string(o.image);
+  const Scene scene =
+      app::load_scene(dir + "/" + name + ".toml", {"image.width=" + size, "image.height=" + size});
+  const meshing::Surface s = surface_of(scene);
+  RenderSettings rs = scene.settings;
+  rs.method = RenderMethod::kIaa;
+  const Film film = o.no_compare ? Film{} : render(scene, rs, exec);
+  double certified_seconds = 0;
+  for (meshing::Method m : methods) {
+    Timed tm = time_mesher(o, m, s, exec);
+    const CompareCounts k = compare_mesh(o, tm.last.soup, film, scene, exec);
+    const std::string notes = notes_for(m, tm, certified_seconds);
+    if (m == meshing::Method::kCertified) certified_seconds = tm.seconds;
+    std::printf("%-11s %-7s %9.3f %10zu %8llu %8llu %10llu  %s\n", name.c_str(),
+                meshing::method_label(m), tm.seconds, tm.last.soup.triangles.size(),
+                (unsigned long long)k.lost, (unsigned long long)k.wrong,
+                (unsigned long long)k.uncertain_empty, notes.c_str());
+    std::fflush(stdout);
+    out.push_back({{"surface", name},
+                   {"method", meshing::method_label(m)},
+                   {"seconds_median", tm.seconds},
+                   {"runs", tm.runs},
+                   {"triangles", tm.last.soup.triangles.size()},
+                   {"lost_pixels", k.lost},
+                   {"wrong_pixels", k.wrong},
+                   {"undecided_without_mesh", k.uncertain_empty},
+                   {"iaa_covered_pixels", film.stats.covered},
+                   {"settings", tm.last.details}});
+  }
+}
+
+/// CGAL Mesh_3's thread scaling: the first surface at half the resolution, 1 thread and all;
+/// null when skipped (--no-scaling, one thread, or no cgal among the methods).
+nlohmann::json cgal_scaling(const Options& o, const std::string& dir,
+                            const std::vector<meshing::Method>& methods, const Exec& exec) {
   nlohmann::json scaling;
-  if (!o.no_scaling && exec.resolved_threads() > 1 && !o.surfaces.empty() &&
-      std::find(methods.begin(), methods.end(), meshing::Method::kCgal) != methods.end()) {
-    const std::string path = dir + "/" + o.surfaces.front() + ".toml";
-    const Scene scene = app::load_scene(path);
-    meshing::Surface s;
-    s.name = scene.name;
-    s.expression = scene.expression;
-    s.tape = scene.tape;
-    s.bounds = scene.bounds;
-    meshing::MeshParams p = o.p;
-    p.resolution = std::max(8, o.p.resolution / 2);
-    std::printf("cgal thread scaling (%s, resolution %d):", s.name.c_str(), p.resolution);
-    for (int threads : {1, exec.resolved_threads()}) {
-      Exec e = exec;
-      e.threads = threads;
-      const std::clock_t c0 = std::clock();
-      const meshing::MeshRun r = meshing::run_mesher(meshing::Method::kCgal, s, p, e);
-      const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
-      std::printf(" %d thread%s %.3f s (cpu %.3f s)%s", threads, threads > 1 ? "s" : "", r.seconds,
-                  cpu, threads == 1 ? "," : "\n");
-      scaling.push_back({{"threads", threads}, {"seconds", r.seconds}, {"cpu_seconds", cpu}});
-      std::fflush(stdout);
-    }
+  if (o.no_scaling || exec.resolved_threads() <= 1 || o.surfaces.empty() ||
+      std::find(methods.begin(), methods.end(), meshing::Method::kCgal) == methods.end())
+    return scaling;
+  const meshing::Surface s = surface_of(app::load_scene(dir + "/" + o.surfaces.front() + ".toml"));
+  meshing::MeshParams p = o.p;
+  p.resolution = std::max(8, o.p.resolution / 2);
+  std::printf("cgal thread scaling (%s, resolution %d):", s.name.c_str(), p.resolution);
+  for (int threads : {1, exec.resolved_threads()}) {
+    Exec e = exec;
+    e.threads = threads;
+    const std::clock_t c0 = std::clock();
+    const meshing::MeshRun r = meshing::run_mesher(meshing::Method::kCgal, s, p, e);
+    const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    std::printf(" %d thread%s %.3f s (cpu %.3f s)%s", threads, threads > 1 ? "s" : "", r.seconds,
+                cpu, threads == 1 ? "," : "\n");
+    scaling.push_back({{"threads", threads}, {"seconds", r.seconds}, {"cpu_seconds", cpu}});
+    std::fflush(stdout);
   }
+  return scaling;
+}
+#endif
+
+void run(const Options& o) {
+#if !defined(IAA_HAVE_CGAL) || !defined(IAA_HAVE_OPENMESH)
+  throw Error("iaa bench mesh needs CGAL and OpenMesh (this iaa was built without them)");
+#else
+  check_options(o);
+  const std::string dir = find_scene_dir(o.scene_dir);
+  std::vector<meshing::Method> methods;
+  for (const std::string& m : o.methods) methods.push_back(meshing::parse_mesh_method(m));
+  Exec exec;
+  exec.threads = o.threads;
+  print_header(o, exec);
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::string& name : o.surfaces) bench_surface(o, dir, name, methods, exec, out);
+  const nlohmann::json scaling = cgal_scaling(o, dir, methods, exec);
   std::printf(
       "lost: IAA certifies surface in the pixel, the mesh shows none; wrong: IAA certifies\n"
       "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n"
