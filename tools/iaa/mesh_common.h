@@ -225,79 +225,98 @@ inline void run_certified(const Surface& s, const MeshParams& p, const Exec& exe
                 std::to_string(st.uncertified_leaves) + " uncertified";
 }
 
+/// The octree mesher, from its own guaranteed enclosure (kept in the run for the report).
+inline void run_octree(const Surface& s, const MeshParams& p, const Exec& exec, MeshRun& run) {
+  const auto t0 = std::chrono::steady_clock::now();
+  OctreeMeshSettings os;
+  os.enclose = p.enclose_settings(s.bounds);
+  os.flat_tolerance = p.flat_tolerance;
+  os.validate();
+  Enclosure enc = enclose(*s.tape, os.enclose, exec);
+  const double enclose_seconds = seconds_since(t0);
+  OctreeMesh om = extract_mesh(*s.tape, enc, os, exec);
+  run.seconds = seconds_since(t0);
+  run.soup = std::move(om.soup);
+  const OctreeMeshStats& st = om.stats;
+  run.details = {{"depth", os.enclose.depth},
+                 {"refine_possible", os.enclose.refine_possible},
+                 {"flat_tolerance", os.flat_tolerance},
+                 {"leaves", st.leaves},
+                 {"crossing_leaves", st.crossing_leaves},
+                 {"possible_leaves", st.possible_leaves},
+                 {"meshed_leaves", st.meshed_leaves},
+                 {"unmeshed_possible_leaves", st.unmeshed_possible},
+                 {"unmeshed_crossing_leaves", st.unmeshed_crossing},
+                 {"sample_points", st.sample_points},
+                 {"uncertain_points", st.uncertain_points},
+                 {"open_chains", st.open_chains},
+                 {"bent_loops", st.bent_loops},
+                 {"finest_level", st.finest_level},
+                 {"seconds_enclose", enclose_seconds},
+                 {"seconds_signs", st.seconds_signs},
+                 {"seconds_extract", st.seconds_extract},
+                 {"seconds_vertices", st.seconds_vertices}};
+  run.summary =
+      "octree, depth " + std::to_string(os.enclose.depth) + " (possible leaves refined to depth " +
+      std::to_string(os.enclose.depth + os.enclose.refine_possible) +
+      "): " + std::to_string(st.leaves) + " leaves, " + std::to_string(st.crossing_leaves) +
+      " crossing, " + std::to_string(st.possible_leaves) + " possible";
+  run.enclosure = std::move(enc);
+}
+
+#ifdef IAA_HAVE_CGAL
+/// CGAL Mesh_3; the facet size defaults to the bounds' longest edge over the resolution.
+inline void run_cgal(const Surface& s, const MeshParams& p, const Exec& exec, MeshRun& run) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const double edge = std::fmax(s.bounds.size().x, std::fmax(s.bounds.size().y, s.bounds.size().z));
+  CgalMeshSettings cs;
+  cs.bounds = s.bounds;
+  cs.facet_size = p.facet_size > 0 ? p.facet_size : edge / p.resolution;
+  cs.facet_distance = p.facet_distance > 0 ? p.facet_distance : cs.facet_size / 4;
+  cs.facet_angle = p.facet_angle;
+  CgalMeshStats st;
+  run.soup = mesh_cgal(*s.tape, cs, exec, &st);
+  run.seconds = seconds_since(t0);
+  run.details = {{"facet_size", cs.facet_size},
+                 {"facet_distance", cs.facet_distance},
+                 {"facet_angle", cs.facet_angle},
+                 {"facets", st.facets},
+                 {"bound_facets_removed", st.bound_facets}};
+  char b[160];
+  std::snprintf(b, sizeof b, "cgal Mesh_3, facet size %.4g, distance %.4g, angle %.4g",
+                cs.facet_size, cs.facet_distance, cs.facet_angle);
+  run.summary = b;
+}
+#endif
+
+#ifdef IAA_HAVE_VIZ
+/// VTK flying edges on a grid of --grid (else --resolution) cells per axis.
+inline void run_vtk(const Surface& s, const MeshParams& p, const Exec& exec, MeshRun& run) {
+  const auto t0 = std::chrono::steady_clock::now();
+  viz::VtkMeshSettings vs;
+  vs.bounds = s.bounds;
+  vs.grid = p.grid > 0 ? p.grid : p.resolution;
+  run.soup = viz::mesh_vtk(*s.tape, vs, exec);
+  run.seconds = seconds_since(t0);
+  run.details = {{"grid", vs.grid}};
+  run.summary = "vtk flying edges, grid " + std::to_string(vs.grid) + "^3";
+}
+#endif
+
 inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const Exec& exec) {
   p.validate();
   MeshRun run;
-  const auto t0 = std::chrono::steady_clock::now();
-  [[maybe_unused]] const double edge =
-      std::fmax(s.bounds.size().x, std::fmax(s.bounds.size().y, s.bounds.size().z));
   if (m == Method::kCertified) {
     run_certified(s, p, exec, run);
   } else if (m == Method::kOctree) {
-    OctreeMeshSettings os;
-    os.enclose = p.enclose_settings(s.bounds);
-    os.flat_tolerance = p.flat_tolerance;
-    os.validate();
-    Enclosure enc = enclose(*s.tape, os.enclose, exec);
-    const double enclose_seconds = seconds_since(t0);
-    OctreeMesh om = extract_mesh(*s.tape, enc, os, exec);
-    run.seconds = seconds_since(t0);
-    run.soup = std::move(om.soup);
-    const OctreeMeshStats& st = om.stats;
-    run.details = {{"depth", os.enclose.depth},
-                   {"refine_possible", os.enclose.refine_possible},
-                   {"flat_tolerance", os.flat_tolerance},
-                   {"leaves", st.leaves},
-                   {"crossing_leaves", st.crossing_leaves},
-                   {"possible_leaves", st.possible_leaves},
-                   {"meshed_leaves", st.meshed_leaves},
-                   {"unmeshed_possible_leaves", st.unmeshed_possible},
-                   {"unmeshed_crossing_leaves", st.unmeshed_crossing},
-                   {"sample_points", st.sample_points},
-                   {"uncertain_points", st.uncertain_points},
-                   {"open_chains", st.open_chains},
-                   {"bent_loops", st.bent_loops},
-                   {"finest_level", st.finest_level},
-                   {"seconds_enclose", enclose_seconds},
-                   {"seconds_signs", st.seconds_signs},
-                   {"seconds_extract", st.seconds_extract},
-                   {"seconds_vertices", st.seconds_vertices}};
-    run.summary = "octree, depth " + std::to_string(os.enclose.depth) +
-                  " (possible leaves refined to depth " +
-                  std::to_string(os.enclose.depth + os.enclose.refine_possible) +
-                  "): " + std::to_string(st.leaves) + " leaves, " +
-                  std::to_string(st.crossing_leaves) + " crossing, " +
-                  std::to_string(st.possible_leaves) + " possible";
-    run.enclosure = std::move(enc);
+    run_octree(s, p, exec, run);
   } else if (m == Method::kCgal) {
 #ifdef IAA_HAVE_CGAL
-    CgalMeshSettings cs;
-    cs.bounds = s.bounds;
-    cs.facet_size = p.facet_size > 0 ? p.facet_size : edge / p.resolution;
-    cs.facet_distance = p.facet_distance > 0 ? p.facet_distance : cs.facet_size / 4;
-    cs.facet_angle = p.facet_angle;
-    CgalMeshStats st;
-    run.soup = mesh_cgal(*s.tape, cs, exec, &st);
-    run.seconds = seconds_since(t0);
-    run.details = {{"facet_size", cs.facet_size},
-                   {"facet_distance", cs.facet_distance},
-                   {"facet_angle", cs.facet_angle},
-                   {"facets", st.facets},
-                   {"bound_facets_removed", st.bound_facets}};
-    char b[160];
-    std::snprintf(b, sizeof b, "cgal Mesh_3, facet size %.4g, distance %.4g, angle %.4g",
-                  cs.facet_size, cs.facet_distance, cs.facet_angle);
-    run.summary = b;
+    run_cgal(s, p, exec, run);
 #endif
   } else {
 #ifdef IAA_HAVE_VIZ
-    viz::VtkMeshSettings vs;
-    vs.bounds = s.bounds;
-    vs.grid = p.grid > 0 ? p.grid : p.resolution;
-    run.soup = viz::mesh_vtk(*s.tape, vs, exec);
-    run.seconds = seconds_since(t0);
-    run.details = {{"grid", vs.grid}};
-    run.summary = "vtk flying edges, grid " + std::to_string(vs.grid) + "^3";
+    run_vtk(s, p, exec, run);
 #endif
   }
   return run;
