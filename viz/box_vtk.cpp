@@ -11,9 +11,8 @@
 #include <vtkStringArray.h>
 #include <vtkTypeInt32Array.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridWriter.h>
 
-#include "core/error.h"
+#include "viz/enclosure_vtk.h"
 
 namespace iaa::viz {
 
@@ -63,15 +62,7 @@ void write_boxes_vtu(const std::string& path, const std::vector<LabelledBox>& bo
   grid->GetCellData()->AddArray(reason);
   grid->GetFieldData()->AddArray(string_array("expression", expression));
   grid->GetFieldData()->AddArray(string_array("format", "iaa-boxes 1"));
-  auto writer = vtkSmartPointer<vtkXMLUnstructuredGridWriter>::New();
-  writer->SetFileName(path.c_str());
-  writer->SetInputData(grid);
-  writer->SetDataModeToAppended();
-  writer->EncodeAppendedDataOff();
-  writer->SetCompressorTypeToLZ4();
-  if (writer->Write() != 1 || writer->GetErrorCode() != 0) {
-    throw Error("cannot write '" + path + "': the VTK writer failed");
-  }
+  write_grid_vtu(path, grid);
 }
 
 }  // namespace iaa::viz

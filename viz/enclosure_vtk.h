@@ -47,7 +47,8 @@ struct EnclosureFile {
   bool points_match_boxes = false;
 };
 
-/// Writes a grid made by enclosure_to_grid with the same writer settings (for timing the parts).
+/// Writes any unstructured grid as .vtu with the enclosure's writer settings (appended raw
+/// binary, LZ4, 64-bit headers): enclosure_to_grid's (timed in parts by the bench) and others'.
 void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid,
                     Progress* progress = nullptr);
 

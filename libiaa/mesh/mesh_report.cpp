@@ -76,25 +76,48 @@ MeshReport analyze_mesh(const TriangleSoup& mesh, const Tape* tape, const Enclos
       if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
     }
   }
-  std::sort(he.begin(), he.end());
-  for (std::size_t i = 0; i < he.size();) {
-    std::size_t j = i;
-    while (j < he.size() && he[j].a == he[i].a && he[j].b == he[i].b) ++j;
-    const std::size_t n = j - i;
-    ++r.edges;
-    if (n == 1) ++r.boundary_edges;
-    if (n >= 3) ++r.nonmanifold_edges;
-    if (n == 2 && he[i].forward == he[i + 1].forward) ++r.inconsistent_edges;
-    i = j;
-  }
+  // Components, numbered in the order of their smallest vertex: a union's root is the smaller
+  // of the two, so a component's root is its smallest vertex.
+  std::vector<std::uint32_t> component(nv, 0);
   for (std::size_t v = 0; v < nv; ++v) {
     if (!used[v]) {
       ++r.unused_vertices;
       continue;
     }
-    ++r.vertices;
-    if (find_root(parent, static_cast<std::uint32_t>(v)) == v) ++r.components;
+    const std::uint32_t root = find_root(parent, static_cast<std::uint32_t>(v));
+    if (root == v) {
+      component[v] = static_cast<std::uint32_t>(r.component_topology.size());
+      r.component_topology.emplace_back();
+    } else {
+      component[v] = component[root];
+    }
+    ++r.component_topology[component[v]].vertices;
   }
+  for (const auto& t : mesh.triangles) ++r.component_topology[component[t[0]]].triangles;
+  std::sort(he.begin(), he.end());
+  for (std::size_t i = 0; i < he.size();) {
+    std::size_t j = i;
+    while (j < he.size() && he[j].a == he[i].a && he[j].b == he[i].b) ++j;
+    const std::size_t n = j - i;
+    ComponentTopology& c = r.component_topology[component[he[i].a]];
+    ++c.edges;
+    if (n == 1) ++c.boundary_edges;
+    if (n >= 3) ++c.nonmanifold_edges;
+    if (n == 2 && he[i].forward == he[i + 1].forward) ++c.inconsistent_edges;
+    i = j;
+  }
+  for (ComponentTopology& c : r.component_topology) {
+    c.euler = std::int64_t(c.vertices) - std::int64_t(c.edges) + std::int64_t(c.triangles);
+    const bool closed_oriented =
+        c.boundary_edges == 0 && c.nonmanifold_edges == 0 && c.inconsistent_edges == 0;
+    c.genus = closed_oriented && c.euler % 2 == 0 && c.euler <= 2 ? (2 - c.euler) / 2 : -1;
+    r.vertices += c.vertices;
+    r.edges += c.edges;
+    r.boundary_edges += c.boundary_edges;
+    r.nonmanifold_edges += c.nonmanifold_edges;
+    r.inconsistent_edges += c.inconsistent_edges;
+  }
+  r.components = r.component_topology.size();
   r.euler = std::int64_t(r.vertices) - std::int64_t(r.edges) + std::int64_t(r.triangles);
 
   // Area and signed volume in round-to-nearest, whatever the caller's rounding mode.

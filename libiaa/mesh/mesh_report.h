@@ -1,16 +1,30 @@
 // Numbers that describe any triangle mesh, whatever made it: size, topology (boundary and
-// non-manifold edges, components, Euler characteristic), geometry (area, enclosed volume), and how
+// non-manifold edges, components, Euler characteristic, in total and per component with the genus
+// of each closed one), geometry (area, enclosed volume), and how
 // well it fits the surface (max |f| at vertices, vertices outside the guaranteed enclosure).
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "mesh/triangle_soup.h"
 
 namespace iaa {
+
+/// The topology of one connected component of a mesh.
+struct ComponentTopology {
+  std::uint64_t vertices = 0, edges = 0, triangles = 0;
+  std::uint64_t boundary_edges = 0;      ///< edges of exactly one triangle
+  std::uint64_t nonmanifold_edges = 0;   ///< edges of three or more triangles
+  std::uint64_t inconsistent_edges = 0;  ///< two-triangle edges traversed the same way by both
+  std::int64_t euler = 0;                ///< V - E + F
+  /// (2 - euler) / 2 when the component is a closed, consistently oriented surface (every edge
+  /// has two triangles that traverse it in opposite directions); -1 otherwise.
+  std::int64_t genus = -1;
+};
 
 struct MeshReport {
   std::uint64_t vertices = 0;         ///< vertices used by some triangle
@@ -23,6 +37,8 @@ struct MeshReport {
   std::uint64_t inconsistent_edges = 0;  ///< two-triangle edges traversed the same way by both
   std::uint64_t components = 0;          ///< connected through shared vertices
   std::int64_t euler = 0;                ///< V - E + F
+  /// Per component, in the order of their smallest vertex index; the totals above are their sums.
+  std::vector<ComponentTopology> component_topology;
   double area = 0;
   double volume = 0;     ///< signed volume (divergence theorem); meaningful for closed meshes
   double max_abs_f = 0;  ///< max |f| over the vertices (when a tape is given)

@@ -13,7 +13,8 @@ namespace iaa {
 /// leaves of a pixel are shaded at points a fraction of a pixel apart; one guaranteed shadow
 /// search per cluster of such points (within `radius` of the point that was tested, normals
 /// within ~18 degrees) gives shadows at pixel resolution instead of per leaf, at a fraction of
-/// the cost. Clear it per pixel: the result then does not depend on threads or tiles.
+/// the cost. One fresh cache per pixel (the IAA kernel's pixel owns it): the result then does not
+/// depend on threads or tiles.
 struct ShadowCache {
   static constexpr int kSize = 8;
   struct Entry {
@@ -24,10 +25,6 @@ struct ShadowCache {
   Entry entries[kSize];
   int count = 0;
   double radius = 0;  ///< reuse distance (world units)
-  void clear(double r) {
-    count = 0;
-    radius = r;
-  }
 };
 
 /// Colour (linear RGB) of the surface at `p` with gradient `grad`, seen along `view_dir`.

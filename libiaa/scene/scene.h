@@ -49,10 +49,10 @@ struct Scene {
 };
 
 /// Throws iaa::Error when f is proved undefined (NaN) at every point of `bounds`, where it can
-/// show nothing: an empty picture, an empty enclosure. Only a proof rejects a surface; one
-/// defined anywhere, or one for which no proof is found within a fixed budget of evaluations (a
-/// few milliseconds), is accepted. The message names neither file nor key: the caller knows
-/// where the surface came from and adds that.
+/// show nothing (an empty picture). parse_scene calls it on a scene's bounds. Only a proof rejects
+/// a surface; one defined anywhere, or one for which no proof is found within a fixed budget of
+/// evaluations (a few milliseconds), is accepted. The message names neither file nor key: the
+/// caller knows where the surface came from and adds that.
 void validate_surface(const Tape& tape, const Box3& bounds);
 
 }  // namespace iaa

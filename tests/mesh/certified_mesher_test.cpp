@@ -14,7 +14,6 @@
 #include "core/error.h"
 #include "mesh/mesh_report.h"
 #include "mesh/self_intersections.h"
-#include "mesh/topology_report.h"
 #include "test_scenes.h"
 
 namespace iaa {
@@ -32,7 +31,6 @@ CertifiedMeshSettings settings_for(const Box3& b, int min_depth = 3) {
 struct Checked {
   CertifiedMesh mesh;
   MeshReport report;
-  TopologyReport topology;
 };
 
 Checked run(const std::string& expr, const Box3& b, int min_depth = 3, int threads = 0,
@@ -42,9 +40,8 @@ Checked run(const std::string& expr, const Box3& b, int min_depth = 3, int threa
   exec.threads = threads;
   CertifiedMeshSettings s = settings_for(b, min_depth);
   s.max_depth = max_depth;
-  Checked c{mesh_certified(tape, s, exec), {}, {}};
+  Checked c{mesh_certified(tape, s, exec), {}};
   c.report = analyze_mesh(c.mesh.soup, &tape);
-  c.topology = analyze_topology(c.mesh.soup);
   return c;
 }
 
@@ -76,8 +73,8 @@ TEST(CertifiedMesher, SphereIsOneClosedComponentWithEulerTwo) {
   EXPECT_NEAR(c.report.area, 4 * kPi * 0.64, 0.03 * 4 * kPi * 0.64);
   // Normals point towards increasing f (outwards here): the signed volume is positive.
   EXPECT_NEAR(c.report.volume, 4.0 / 3 * kPi * 0.512, 0.03 * 4.0 / 3 * kPi * 0.512);
-  ASSERT_EQ(c.topology.components.size(), 1u);
-  EXPECT_EQ(c.topology.components[0].genus, 0);
+  ASSERT_EQ(c.report.component_topology.size(), 1u);
+  EXPECT_EQ(c.report.component_topology[0].genus, 0);
 }
 
 TEST(CertifiedMesher, StrictModeCertifiesASphereToo) {
@@ -105,8 +102,8 @@ TEST(CertifiedMesher, TorusHasEulerZero) {
   expect_certified_closed(c);
   EXPECT_EQ(c.report.components, 1u);
   EXPECT_EQ(c.report.euler, 0);
-  ASSERT_EQ(c.topology.components.size(), 1u);
-  EXPECT_EQ(c.topology.components[0].genus, 1);
+  ASSERT_EQ(c.report.component_topology.size(), 1u);
+  EXPECT_EQ(c.report.component_topology[0].genus, 1);
 }
 
 TEST(CertifiedMesher, ThinTorusOfTheIssueIsOneCertifiedTorus) {
@@ -134,8 +131,8 @@ TEST(CertifiedMesher, GenusTwoSurfaceHasEulerMinusTwo) {
   expect_certified_closed(c);
   EXPECT_EQ(c.report.components, 1u);
   EXPECT_EQ(c.report.euler, -2);
-  ASSERT_EQ(c.topology.components.size(), 1u);
-  EXPECT_EQ(c.topology.components[0].genus, 2);
+  ASSERT_EQ(c.report.component_topology.size(), 1u);
+  EXPECT_EQ(c.report.component_topology[0].genus, 2);
 }
 
 TEST(CertifiedMesher, ThinFlatDiscIsASphere) {

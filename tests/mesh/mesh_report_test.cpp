@@ -69,5 +69,33 @@ TEST(MeshReport, NoEnclosureNoCount) {
   EXPECT_EQ(analyze_mesh(c.mesh, &c.tape).outside_enclosure, -1);
 }
 
+// Per-component topology: two tetrahedra and an open triangle. The consistently oriented
+// tetrahedron has genus 0; the one with a face turned has none (not consistently oriented); the
+// triangle is open. The totals are the components' sums.
+TEST(MeshReport, TopologyPerComponent) {
+  TriangleSoup m;
+  for (int k = 0; k < 3; ++k) {
+    const double o = 3.0 * k;
+    m.vertices.insert(m.vertices.end(), {{o, 0, 0}, {o + 1, 0, 0}, {o, 1, 0}, {o, 0, 1}});
+  }
+  m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3},  // outward
+                 {4, 6, 5}, {4, 5, 7}, {4, 7, 6}, {5, 7, 6},  // last face turned
+                 {8, 9, 10}};
+  const MeshReport r = analyze_mesh(m);
+  ASSERT_EQ(r.component_topology.size(), 3u);
+  EXPECT_EQ(r.components, 3u);
+  EXPECT_EQ(r.component_topology[0].genus, 0);
+  EXPECT_EQ(r.component_topology[0].euler, 2);
+  EXPECT_EQ(r.component_topology[1].genus, -1);
+  EXPECT_GT(r.component_topology[1].inconsistent_edges, 0u);
+  EXPECT_EQ(r.component_topology[2].genus, -1);
+  EXPECT_EQ(r.component_topology[2].boundary_edges, 3u);
+  EXPECT_EQ(r.component_topology[2].euler, 1);
+  EXPECT_EQ(r.euler, 2 + 2 + 1);
+  EXPECT_EQ(r.boundary_edges, 3u);
+  EXPECT_EQ(r.inconsistent_edges, r.component_topology[1].inconsistent_edges);
+  EXPECT_EQ(r.unused_vertices, 1u);  // vertex 11 of the third group
+}
+
 }  // namespace
 }  // namespace iaa

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -16,7 +15,6 @@
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/command.h"
-#include "io/scene_toml.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/enclosure_vtk.h"
 #endif

@@ -77,11 +77,10 @@ void print_certificate(const meshing::MeshRun& run) {
       d["distance_bound"]["surface_to_mesh"].get<double>());
 }
 
-void add_certificate(nlohmann::json& j, const meshing::MeshRun& run, const Mesh& mesh) {
+void add_certificate(nlohmann::json& j, const meshing::MeshRun& run) {
   j["topology_certified"] = run.uncertified.empty();
   j["uncertified_cells"] = run.uncertified.size();
   j["distance_bound"] = run.details["distance_bound"];
-  j.update(meshing::topology_json(mesh.triangles()));
 }
 
 #ifdef IAA_HAVE_OPENMESH
@@ -123,13 +122,14 @@ void write_files(const MeshOptions& o, MeshFormat format, const Mesh& mesh,
 /// other than the certified one (which reports its own certificate instead), enclosing the
 /// surface here when the mesher did not.
 MeshReport analyze(const MeshOptions& o, meshing::Method method, const meshing::Surface& surface,
-                   const Mesh& mesh, meshing::MeshRun& run, const Exec& exec) {
+                   const TriangleSoup& soup, CoordinatePrecision precision, meshing::MeshRun& run,
+                   const Exec& exec) {
   std::optional<Enclosure> enc = std::move(run.enclosure);
   if (!o.report.empty() && method != meshing::Method::kCertified) {
     if (!enc) enc = enclose(*surface.tape, o.p.enclose_settings(surface.bounds), exec);
-    return analyze_mesh(mesh, surface.tape.get(), &*enc);
+    return analyze_mesh(soup, surface.tape.get(), &*enc, precision);
   }
-  return analyze_mesh(mesh, surface.tape.get(), nullptr);
+  return analyze_mesh(soup, surface.tape.get(), nullptr, precision);
 }
 
 /// The summary on stdout: the surface, the mesher, the mesh's topology and fit, the certificate
@@ -167,7 +167,7 @@ void print_summary(const MeshOptions& o, meshing::Method method, const meshing::
 /// how the file holds the coordinates.
 void write_report(const MeshOptions& o, meshing::Method method, MeshFormat format,
                   const meshing::Surface& surface, const meshing::MeshRun& run,
-                  const MeshReport& rep, const Mesh& mesh, std::size_t duplicated) {
+                  const MeshReport& rep, const TriangleSoup& soup, std::size_t duplicated) {
   nlohmann::json j = meshing::report_json(rep);
   j["method"] = meshing::method_label(method);
   j["surface"] = surface.expression;
@@ -176,11 +176,11 @@ void write_report(const MeshOptions& o, meshing::Method method, MeshFormat forma
   j["mesh_file"] = o.output;
   j["vertices_duplicated_on_write"] = duplicated;
 #ifdef IAA_HAVE_CGAL
-  j["self_intersections"] = count_self_intersections(mesh.triangles());
+  j["self_intersections"] = count_self_intersections(soup);
 #else
   j["self_intersections"] = nullptr;  // counted with CGAL, left out of this build
 #endif
-  if (method == meshing::Method::kCertified) add_certificate(j, run, mesh);
+  if (method == meshing::Method::kCertified) add_certificate(j, run);
   j["mesh_file_coordinates"] = format == MeshFormat::kPly
                                    ? "float x y z, and exact double x_double y_double z_double"
                                    : "float x y z (rounded from the mesher's double)";
@@ -216,11 +216,14 @@ void run(const MeshOptions& o) {
   run.soup = {};
   const std::size_t duplicated = mesh.duplicated_vertices();
   write_files(o, format, mesh, run, surface);
-  const MeshReport rep = analyze(o, method, surface, mesh, run, exec);
+  // The TriMesh as plain triangles (vertex copies merged back) once, for the report and the
+  // self-intersection count.
+  const TriangleSoup soup = mesh.triangles();
+  const MeshReport rep = analyze(o, method, surface, soup, mesh.precision(), run, exec);
   bar.finish();
 
   print_summary(o, method, surface, run, rep, duplicated);
-  if (!o.report.empty()) write_report(o, method, format, surface, run, rep, mesh, duplicated);
+  if (!o.report.empty()) write_report(o, method, format, surface, run, rep, soup, duplicated);
 #endif
 }
 
@@ -238,7 +241,9 @@ void setup(CLI::App& app) {
       ->capture_default_str();
   app.add_option("-o,--output", o->output, "mesh file: .ply, .obj, .off or .stl")->required();
   app.add_flag("--binary", o->binary, "write binary PLY or STL (ASCII otherwise)");
-  app.add_option("--report", o->report, "write a JSON report (topology, fit, enclosure check)");
+  app.add_option("--report", o->report,
+                 "write a JSON report (topology, fit; the certificate for certified, the enclosure "
+                 "check for the others)");
   app.add_option("--resolution", o->p.resolution,
                  "N: certified cells of at most 2 edge/N, octree leaves of a 2^ceil(log2 N) grid, "
                  "VTK grid N^3, CGAL facet size edge/N")

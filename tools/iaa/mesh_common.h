@@ -22,7 +22,6 @@
 #include "mesh/cgal_mesher.h"
 #include "mesh/mesh_report.h"
 #include "mesh/octree_mesher.h"
-#include "mesh/topology_report.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/vtk_mesher.h"
 #endif
@@ -322,22 +321,6 @@ inline MeshRun run_mesher(Method m, const Surface& s, const MeshParams& p, const
   return run;
 }
 
-/// The topology fields of `iaa mesh --report`: per closed component its genus.
-inline nlohmann::json topology_json(const TriangleSoup& soup) {
-  const TopologyReport t = analyze_topology(soup);
-  nlohmann::json genus = nlohmann::json::array();
-  nlohmann::json comps = nlohmann::json::array();
-  for (const ComponentTopology& c : t.components) {
-    if (c.genus >= 0) genus.push_back(c.genus);
-    comps.push_back({{"triangles", c.triangles},
-                     {"euler_characteristic", c.euler},
-                     {"boundary_edges", c.boundary_edges},
-                     {"nonmanifold_edges", c.nonmanifold_edges},
-                     {"genus", c.genus >= 0 ? nlohmann::json(c.genus) : nlohmann::json(nullptr)}});
-  }
-  return {{"genus_of_closed_components", genus}, {"component_topology", comps}};
-}
-
 inline nlohmann::json report_json(const MeshReport& r) {
   nlohmann::json j = {{"vertices", r.vertices},
                       {"triangles", r.triangles},
@@ -355,6 +338,20 @@ inline nlohmann::json report_json(const MeshReport& r) {
                       {"undefined_vertices", r.undefined_vertices}};
   j["vertices_outside_enclosure"] =
       r.outside_enclosure < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.outside_enclosure);
+  // Per component, and the genus of each closed, consistently oriented one.
+  nlohmann::json genus = nlohmann::json::array();
+  nlohmann::json comps = nlohmann::json::array();
+  for (const ComponentTopology& c : r.component_topology) {
+    if (c.genus >= 0) genus.push_back(c.genus);
+    comps.push_back({{"triangles", c.triangles},
+                     {"euler_characteristic", c.euler},
+                     {"boundary_edges", c.boundary_edges},
+                     {"nonmanifold_edges", c.nonmanifold_edges},
+                     {"inconsistently_oriented_edges", c.inconsistent_edges},
+                     {"genus", c.genus >= 0 ? nlohmann::json(c.genus) : nlohmann::json(nullptr)}});
+  }
+  j["genus_of_closed_components"] = genus;
+  j["component_topology"] = comps;
   return j;
 }
 
