@@ -122,8 +122,11 @@ struct Evaluators {
 };
 using ThreadEvaluators = tbb::enumerable_thread_specific<std::unique_ptr<Evaluators>>;
 
+/// 0 is outside v: the box it encloses f over holds no point of the surface. Strict at both
+/// ends: a box where f <= 0 may still touch f = 0 (a surface that never changes sign, such as
+/// -(x^2 + y^2 + z^2 - 1)^2), and such a box is not empty but possible.
 bool zero_free(const Interval& v) {
-  return v.hi() <= 0.0 || v.lo() > 0.0;
+  return v.hi() < 0.0 || v.lo() > 0.0;
 }
 
 /// Coordinate a of the centre of b, the point the mean-value form expands around.
@@ -764,6 +767,9 @@ class Extractor {
   // leaf's own edge checks do not cover: check it here.
   void check_inner_edge(Key p, Key q) {
     if (!certify_ || !settings_.strict) return;
+    // The two pieces on either side of an inner edge walk it in opposite directions, and the
+    // check does not depend on the direction: do it once.
+    if (q < p) return;
     const Index3 ip = key_point(p), iq = key_point(q);
     int axis = 0;
     while (axis < 2 && ip[std::size_t(axis)] == iq[std::size_t(axis)]) ++axis;
@@ -988,7 +994,8 @@ class Extractor {
   static bool fan_embeds(const std::vector<Vec3>& p, const Vec3& c) {
     const std::size_t m = p.size();
     Vec3 n{};
-    for (std::size_t i = 0; i < m; ++i) n = n + cross(p[i], p[(i + 1) % m]);
+    // Relative to c: absolute coordinates far from the origin would cancel in the sum.
+    for (std::size_t i = 0; i < m; ++i) n = n + cross(p[i] - c, p[(i + 1) % m] - c);
     double angle = 0;
     for (std::size_t i = 0; i < m; ++i) {
       const Vec3 a = p[i] - c, b = p[(i + 1) % m] - c;
@@ -1177,7 +1184,13 @@ class Neighbours {
   }
 
  private:
-  static Key id(int depth, const Index3& at) { return (Key(depth) << 60) | make_key(at); }
+  // A leaf's lower corner is below 2^19 per axis (kGridBits), so make_key(at) fills bits 0..58
+  // and the depth (at most kGridBits) fits in bits 59..63.
+  static Key id(int depth, const Index3& at) { return (Key(depth) << 59) | make_key(at); }
+  static_assert(CertifiedMeshSettings::kGridBits < kKeyBits &&
+                    2 * kKeyBits + CertifiedMeshSettings::kGridBits <= 59 &&
+                    CertifiedMeshSettings::kGridBits < 32,
+                "leaf ids: a corner below 2^kGridBits per axis in bits 0..58, the depth above");
 
   // The corner of neighbour cell k (offsets -1, 0, 1 per axis, x fastest); false outside the grid.
   bool neighbour_cell(int k, Index3& q) const {

@@ -69,7 +69,8 @@ struct CertifiedMeshSettings {
 struct UncertifiedCell {
   Box3 box;
   int depth = 0;  ///< splits below its root cell
-  /// Why: 1 no certificate at the depth limit, 2 a corner whose sign intervals could not decide.
+  /// Why: 1 no certificate where it could not be split further (the depth limit, or a split that
+  /// was undone), 2 a corner whose sign intervals could not decide.
   int reason = 1;
 };
 

@@ -265,5 +265,17 @@ TEST(CertifiedMesher, SettingsOutsideTheLimitsAreRefused) {
   EXPECT_THROW(mesh_certified(Tape::parse("x^2 + y^2 + z^2 - 0.64"), s), SettingError);
 }
 
+// A surface that touches 0 without changing sign, from either side: f <= 0 with f = 0 on the
+// sphere is not empty there. Both signs leave the sphere's cells uncertified (possible), never
+// dropped as empty.
+TEST(CertifiedMesher, SurfacesThatNeverChangeSignStayPossible) {
+  const Box3 b{{-1, -1, -1}, {1, 1, 1}};
+  for (const char* expr : {"(x^2 + y^2 + z^2 - 0.49)^2", "-(x^2 + y^2 + z^2 - 0.49)^2"}) {
+    const Checked c = run(expr, b, 3, 0, 5);
+    EXPECT_GT(c.mesh.stats.uncertified_leaves, 0u) << expr;
+    EXPECT_EQ(c.mesh.uncertified.size(), c.mesh.stats.uncertified_leaves) << expr;
+  }
+}
+
 }  // namespace
 }  // namespace iaa
