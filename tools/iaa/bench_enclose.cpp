@@ -249,9 +249,7 @@ void setup(CLI::App& app) {
       ->capture_default_str();
   app.add_option("--surface", o->surfaces, "the surfaces: names of scenes in the scene directory")
       ->capture_default_str();
-  app.add_option("--scene-dir", o->scene_dir,
-                 "directory of the scene files (default: data/scenes in the working directory, "
-                 "else in the source tree above the executable)");
+  add_scene_dir_option(app, &o->scene_dir);
   app.add_flag("--no-write", o->no_write,
                "measure the octree only, not the .vtu conversion and write");
   app.add_option("--json", o->json, "also write the table as JSON");

@@ -230,9 +230,7 @@ void run(const Options& o) {
 
 void setup(CLI::App& app) {
   auto o = std::make_shared<Options>();
-  app.add_option("--scene-dir", o->scene_dir,
-                 "directory of the scene files (default: data/scenes in the working directory, "
-                 "else in the source tree above the executable)");
+  add_scene_dir_option(app, &o->scene_dir);
   app.add_option("--surface", o->surfaces, "surfaces (scene names) to run (repeatable)")
       ->capture_default_str();
   app.add_option("--method", o->methods,

@@ -214,9 +214,7 @@ void setup(CLI::App& app) {
   auto o = std::make_shared<BenchRenderOptions>();
   app.add_option("--scenes", o->scenes,
                  "scene names: NAME.toml in the scene directory (default: the paper's five)");
-  app.add_option("--scene-dir", o->dir,
-                 "directory of the scene files (default: data/scenes in the working directory, "
-                 "else in the source tree above the executable)");
+  add_scene_dir_option(app, &o->dir);
   app.add_option("--size", o->size, "image edge in pixels (default 500)");
   app.add_option(
       "--runs", o->runs,

@@ -25,4 +25,10 @@ std::string find_scene_dir(const std::string& given) {
   throw Error("cannot find data/scenes; run from the source tree or pass --scene-dir");
 }
 
+void add_scene_dir_option(CLI::App& app, std::string* dir) {
+  app.add_option("--scene-dir", *dir,
+                 "directory of the scene files (default: data/scenes in the working directory, "
+                 "else in the source tree above the executable)");
+}
+
 }  // namespace iaa::cli

@@ -205,9 +205,7 @@ void setup(CLI::App& app) {
   app.add_option("--points", o->points, "evaluations per run")->check(CLI::Range(100, 10'000'000));
   app.add_option("--runs", o->runs, "runs per measurement (the median is reported)")
       ->check(CLI::Range(1, 101));
-  app.add_option("--scene-dir", o->scene_dir,
-                 "directory of the scene files (default: data/scenes in the working directory, "
-                 "else in the source tree above the executable)");
+  add_scene_dir_option(app, &o->scene_dir);
   app.add_option("--json", o->json, "also write the figures as JSON to this file");
   app.footer("Examples:\n  iaa bench tape\n  iaa bench tape --points 100000 --json tape.json");
   app.callback([o] { run(*o); });
