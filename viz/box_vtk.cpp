@@ -34,8 +34,8 @@ vtkSmartPointer<vtkStringArray> string_array(const char* name, const std::string
 
 }  // namespace
 
-void write_boxes_vtu(const std::string& path, const std::vector<LabelledBox>& boxes,
-                     const std::string& expression) {
+vtkSmartPointer<vtkUnstructuredGrid> boxes_to_grid(const std::vector<LabelledBox>& boxes,
+                                                   const std::string& expression) {
   const auto n = static_cast<vtkIdType>(boxes.size());
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToDouble();
@@ -62,7 +62,12 @@ void write_boxes_vtu(const std::string& path, const std::vector<LabelledBox>& bo
   grid->GetCellData()->AddArray(reason);
   grid->GetFieldData()->AddArray(string_array("expression", expression));
   grid->GetFieldData()->AddArray(string_array("format", "iaa-boxes 1"));
-  write_grid_vtu(path, grid);
+  return grid;
+}
+
+void write_boxes_vtu(const std::string& path, const std::vector<LabelledBox>& boxes,
+                     const std::string& expression) {
+  write_grid_vtu(path, boxes_to_grid(boxes, expression));
 }
 
 }  // namespace iaa::viz

@@ -5,6 +5,9 @@
 #include <string>
 #include <vector>
 
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+
 #include "core/vec.h"
 
 namespace iaa::viz {
@@ -16,8 +19,12 @@ struct LabelledBox {
   int reason = 0;  ///< cell array `reason`
 };
 
-/// Writes the boxes to `path` as a compressed binary .vtu of VTK_VOXEL cells with cell arrays
-/// `depth` and `reason` and field data `expression` and `format` ("iaa-boxes 1"). Writes `path`
+/// The boxes as VTK_VOXEL cells with cell arrays `depth` and `reason` and field data
+/// `expression` and `format` ("iaa-boxes 1"); iaa-viz shows such a grid as uncertified cells.
+vtkSmartPointer<vtkUnstructuredGrid> boxes_to_grid(const std::vector<LabelledBox>& boxes,
+                                                   const std::string& expression);
+
+/// Writes boxes_to_grid(boxes, expression) to `path` as a compressed binary .vtu. Writes `path`
 /// directly: tools wrap this in write_atomically. Throws iaa::Error when VTK fails to write.
 void write_boxes_vtu(const std::string& path, const std::vector<LabelledBox>& boxes,
                      const std::string& expression);

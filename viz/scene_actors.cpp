@@ -5,6 +5,7 @@
 
 #include <vtkActor.h>
 #include <vtkArrowSource.h>
+#include <vtkCellCenters.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
 #include <vtkDataSet.h>
@@ -37,6 +38,8 @@ std::string colour_array(const Layer& l) {
       return has_cell_array(l.data, kVerdictArray) ? kVerdictArray : "";
     case LayerRole::kEnclosure:
       return has_cell_array(l.data, kClassArray) ? kClassArray : "";
+    case LayerRole::kUncertified:
+      return "";  // one colour: where they are matters, not why
     default:
       break;
   }
@@ -71,6 +74,8 @@ const char* role_label(LayerRole r) {
       return "box";
     case LayerRole::kMesh:
       return "mesh";
+    case LayerRole::kUncertified:
+      return "uncertified cell";
     case LayerRole::kGeneric:
       return "";
   }
@@ -103,6 +108,7 @@ Vec3 plain_colour(LayerRole r, int index) {
   if (r == LayerRole::kMesh) return {0.78, 0.78, 0.84};
   if (r == LayerRole::kPoints) return {0.1, 0.1, 0.1};
   if (r == LayerRole::kFrusta) return {0.45, 0.45, 0.55};
+  if (r == LayerRole::kUncertified) return {0.9, 0.1, 0.1};
   static const Vec3 kPalette[] = {
       {0.8, 0.8, 0.85}, {0.55, 0.7, 0.9}, {0.85, 0.6, 0.5}, {0.6, 0.8, 0.55}, {0.8, 0.6, 0.85}};
   return kPalette[index % 5];
@@ -175,6 +181,28 @@ void add_point_actors(vtkRenderer* ren, const Layer& l, double focus_radius, Leg
     ren->AddActor(normal_arrows(l.data, 0.3 * focus_radius));
     legend.add("normal at hit (black arrow)", {0.85, 0.85, 0.85});
   }
+}
+
+// ---- Uncertified cells -------------------------------------------------------------------------
+
+/// A red dot of fixed screen size at each cell's centre: the cells themselves are often smaller
+/// than a pixel (the neck of a teardrop, a node of chubs).
+void add_cell_markers(vtkRenderer* ren, const Layer& l) {
+  vtkNew<vtkCellCenters> centres;
+  centres->SetInputData(l.data);
+  centres->VertexCellsOn();  // the mapper draws cells, not bare points
+  vtkNew<vtkPolyDataMapper> m;
+  m->SetInputConnection(centres->GetOutputPort());
+  m->ScalarVisibilityOff();
+  vtkNew<vtkActor> a;
+  a->SetMapper(m);
+  vtkProperty* p = a->GetProperty();
+  p->SetRepresentationToPoints();
+  p->SetRenderPointsAsSpheres(true);
+  p->SetPointSize(7);
+  const Vec3 c = plain_colour(LayerRole::kUncertified, 0);
+  p->SetColor(c.x, c.y, c.z);
+  ren->AddActor(a);
 }
 
 // ---- Cells ------------------------------------------------------------------------------------
@@ -295,6 +323,7 @@ void add_layer_actors(vtkRenderer* ren, const std::vector<Layer>& layers, double
       add_point_actors(ren, l, focus_radius, legend);
     } else {
       add_cell_actor(ren, l, plain_index, legend);
+      if (l.role == LayerRole::kUncertified) add_cell_markers(ren, l);
     }
   }
 }

@@ -29,6 +29,10 @@ enum VerdictCode : int {
   kVerdictKept = 1,      ///< 0 may be in F(box): split further or kept as t_near
 };
 
+/// Cell array "reason" of the boxes the certified mesher could not certify (viz/box_vtk.h; values
+/// of UncertifiedCell::reason).
+inline constexpr const char* kReasonArray = "reason";
+
 /// Cell array "class" of enclosure boxes (values of iaa::CellClass).
 inline constexpr const char* kClassArray = "class";
 enum ClassCode : int { kClassCrossing = 1, kClassPossible = 2 };
@@ -56,7 +60,10 @@ enum class LayerRole {
   kPoints,      ///< hit points with normals: spheres and normal arrows
   kEnclosure,   ///< enclosure boxes: coloured by class, edges shown
   kMesh,        ///< a triangle mesh: shaded, light
-  kGeneric,     ///< anything else: coloured by a known array if present, else plain
+  /// cells the certified mesher could not certify: red boxes, each also marked at its centre by
+  /// a dot of fixed screen size, since such cells are often far smaller than a pixel
+  kUncertified,
+  kGeneric,  ///< anything else: coloured by a known array if present, else plain
 };
 
 /// One data set to draw.

@@ -181,6 +181,7 @@ LayerRole guess_role(const std::string& name, vtkDataSet* d) {
   if (has_cell_array(d, kVerdictArray)) return LayerRole::kDepthBoxes;
   if (has_cell_array(d, kClassArray)) return LayerRole::kEnclosure;
   if (has_cell_array(d, kResultArray)) return LayerRole::kSlabs;
+  if (has_cell_array(d, kReasonArray)) return LayerRole::kUncertified;
   if (name_has(name, "enclos") || name_has(name, "octree") || name_has(name, "box")) {
     return LayerRole::kEnclosure;
   }

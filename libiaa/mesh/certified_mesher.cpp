@@ -1372,6 +1372,12 @@ int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge)
   return d;
 }
 
+int certified_depth_for_resolution(const CertifiedMeshSettings& settings, int resolution) {
+  const Vec3 size = settings.bounds.size();
+  const double longest = std::fmax(size.x, std::fmax(size.y, size.z));
+  return certified_depth_for_edge(settings, 2 * longest / std::max(resolution, 1));
+}
+
 CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,
                              const Exec& exec) {
   settings.validate();

@@ -117,6 +117,11 @@ std::array<int, 3> certified_root_cells(const CertifiedMeshSettings& settings);
 /// The smallest min_depth whose cells have no edge longer than `edge` (at most max_depth).
 int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge);
 
+/// The min_depth that `iaa mesh --resolution N` means: cells of at most 2 (longest side of the
+/// bounds) / N. A cell's fan has about twice the triangles of a marching-cubes voxel, so cells of
+/// twice the voxel's edge give meshes of about the size of a grid of N per axis.
+int certified_depth_for_resolution(const CertifiedMeshSettings& settings, int resolution);
+
 /// Meshes f = 0 in settings.bounds. The result is identical for any thread count. Throws
 /// SettingError on invalid settings or when settings.max_boxes leaves would be exceeded.
 CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,

@@ -25,9 +25,9 @@ TOML
 test -s "$tmp/enc.png"
 # Not blank: the PNG of a white picture at this size compresses to far less.
 [ "$(stat -c %s "$tmp/enc.png")" -gt 3000 ] || { echo "enc.png looks blank"; exit 1; }
-# The mesh shortcut: the octree mesh beside its enclosure (colours: tests/e2e/viz_cli_test.cpp).
-"$bin/iaa-viz" mesh "$tmp/s.toml" --depth 4 -q --size 300x150 -o "$tmp/mesh.png" >"$tmp/out"
-grep -q "^mesh: .* triangles from " "$tmp/out" || { echo "mesh: no summary line"; cat "$tmp/out"; exit 1; }
+# The mesh shortcut: the certified mesh beside the enclosure (colours: tests/e2e/viz_cli_test.cpp).
+"$bin/iaa-viz" mesh "$tmp/s.toml" --depth 4 --resolution 32 -q --size 300x150 -o "$tmp/mesh.png" >"$tmp/out"
+grep -q "^mesh: certified, .* triangles" "$tmp/out" || { echo "mesh: no summary line"; cat "$tmp/out"; exit 1; }
 grep -q "(300x150, " "$tmp/out" || { echo "mesh: wrong size"; cat "$tmp/out"; exit 1; }
 [ "$(stat -c %s "$tmp/mesh.png")" -gt 3000 ] || { echo "mesh.png looks blank"; exit 1; }
 # A certified mesh written as binary STL, with the boxes of its uncertified cells (the teardrop's

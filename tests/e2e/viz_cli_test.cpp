@@ -42,6 +42,7 @@ struct Colours {
   int teal = 0;    ///< crossing boxes (0.1, 0.55, 0.6)
   int yellow = 0;  ///< possible boxes (0.95, 0.75, 0.1)
   int grey = 0;    ///< mesh (0.78, 0.78, 0.84): neutral, a little blue
+  int red = 0;     ///< uncertified cells (0.9, 0.1, 0.1)
 };
 
 Colours count(const iaa::app::Image8& img, int x0, int x1) {
@@ -54,6 +55,7 @@ Colours count(const iaa::app::Image8& img, int x0, int x1) {
       c.teal += g > r + 40 && b > r + 40;
       c.yellow += r > 120 && g > 80 && r > b + 80 && g > b + 50;
       c.grey += r > 60 && r < 245 && std::abs(r - g) <= 10 && b >= r && b <= r + 40;
+      c.red += r > 150 && g < 90 && b < 90;
     }
   }
   return c;
@@ -107,14 +109,37 @@ TEST_F(VizCli, UnderXvfbRunTheBoxesHaveTheirClassColours) {
   }
 }
 
-// `iaa-viz mesh SCENE`: the mesh (grey) and the possible boxes it left unmeshed (yellow) in the
-// left half, the enclosure (teal and yellow boxes) in the right half, one camera.
-TEST_F(VizCli, MeshShortcutShowsTheMeshBesideItsEnclosure) {
+// `iaa-viz mesh SCENE`: the certified mesh (grey) with its uncertified cells, the teardrop's
+// singular point (red, marked at a fixed screen size however small the cells), in the left half;
+// the enclosure (teal and yellow boxes) in the right half, one camera.
+TEST_F(VizCli, MeshShortcutShowsTheCertifiedMeshAndItsUncertifiedCells) {
   const std::string png = tmp("mesh.png");
-  const Outcome r =
-      run(viz() + " mesh " + quoted(kScene) + " --depth 5 -q --size 480x240 -o " + quoted(png));
+  const Outcome r = run(viz() + " mesh " + quoted(kScene) +
+                        " --depth 5 --resolution 64 -q --size 480x240 -o " + quoted(png));
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("mesh: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("mesh: certified, "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" uncertified cells"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("wrote " + png + " (480x240, 3 layers)"), std::string::npos) << r.out;
+  const iaa::app::Image8 img = iaa::app::read_png(png);
+  ASSERT_EQ(img.width, 480);
+  const Colours left = count(img, 0, img.width / 2), right = count(img, img.width / 2, img.width);
+  const int half = img.width / 2 * img.height;
+  EXPECT_GT(left.grey, half / 20) << "no mesh on the left";
+  // The legend (its "uncertified cell" entry is red) is drawn at the top right, over the right
+  // half.
+  EXPECT_GT(left.red, 12) << "the uncertified cells at the neck are not marked";
+  EXPECT_LT(left.teal, 50) << "crossing boxes on the mesh's side";
+  EXPECT_GT(right.teal, half / 10) << "no crossing boxes on the right";
+}
+
+// `iaa-viz mesh SCENE --method octree`: the octree mesh (grey) and the possible boxes it left
+// unmeshed (yellow) in the left half, the enclosure (teal and yellow boxes) in the right half.
+TEST_F(VizCli, OctreeMeshShortcutShowsTheMeshBesideItsEnclosure) {
+  const std::string png = tmp("mesh.png");
+  const Outcome r = run(viz() + " mesh " + quoted(kScene) +
+                        " --method octree --depth 5 -q --size 480x240 -o " + quoted(png));
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("mesh: octree, "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" triangles from "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("wrote " + png + " (480x240, 3 layers)"), std::string::npos) << r.out;
   const iaa::app::Image8 img = iaa::app::read_png(png);

@@ -172,12 +172,7 @@ inline CertifiedMeshSettings certified_settings(const Surface& s, const MeshPara
   cs.strict = p.strict;
   cs.min_depth = 0;
   cs.validate();
-  const Vec3 size = s.bounds.size();
-  const double longest = std::fmax(size.x, std::fmax(size.y, size.z));
-  // A cell's fan has about twice the triangles of a marching-cubes voxel: cells of twice the
-  // voxel's edge give meshes of comparable size.
-  cs.min_depth =
-      p.min_depth >= 0 ? p.min_depth : certified_depth_for_edge(cs, 2 * longest / p.resolution);
+  cs.min_depth = p.min_depth >= 0 ? p.min_depth : certified_depth_for_resolution(cs, p.resolution);
   cs.validate();
   return cs;
 }

@@ -42,7 +42,7 @@ const char* kFooter =
     "  iaa-viz teardrop.vtu mesh.ply -o both.png --camera auto --size 1024x768\n"
     "  iaa-viz boxes.vtu --camera 2,1,3:0,0,0:0,1,0 --fov 30 -o boxes.png\n"
     "  iaa-viz enclose data/scenes/teardrop.toml --depth 6 -o boxes.png\n"
-    "  iaa-viz mesh data/scenes/chubs.toml --depth 6 -o mesh.png\n"
+    "  iaa-viz mesh data/scenes/chubs.toml -o mesh.png\n"
     "  iaa-viz neck.vtm                               # interactive window (needs a display)\n"
     "Without DISPLAY, iaa-viz starts its own Xvfb to render (package 'xvfb').";
 
@@ -56,7 +56,7 @@ int run_main(int argc, char** argv) {
       "PNG or an interactive window.\n"
       "  iaa-viz FILES... [-o out.png] [--size WxH] [--camera scene|auto|EYE:LOOK:UP]\n"
       "  iaa-viz enclose SCENE [options]   boxes of the guaranteed enclosure of a scene\n"
-      "  iaa-viz mesh SCENE [options]      the octree mesh of a scene next to its enclosure"};
+      "  iaa-viz mesh SCENE [options]      the certified mesh of a scene next to its enclosure"};
   FilesOptions o;
   app.add_option("files", o.files, "files to show: " + known_extensions());
   add_view_options(app, o.view);

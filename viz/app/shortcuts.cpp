@@ -14,8 +14,10 @@
 #include "app/scene_loading.h"
 #include "core/error.h"
 #include "enclose/octree.h"
+#include "mesh/certified_mesher.h"
 #include "mesh/octree_mesher.h"
 #include "viz/app/view_options.h"
+#include "viz/box_vtk.h"
 #include "viz/enclosure_vtk.h"
 #include "viz/scene_render.h"
 #include "viz/soup_vtk.h"
@@ -28,6 +30,9 @@ struct ShortcutOptions {
   std::vector<std::string> sets;
   int depth = 6;
   int refine = 0;
+  std::string method = "certified";  ///< mesh: certified or octree
+  int resolution = 256;              ///< mesh, certified: as `iaa mesh --resolution`
+  int max_depth = CertifiedMeshSettings{}.max_depth;
   int threads = 0;
   bool quiet = false;
   ViewOptions view;
@@ -84,28 +89,69 @@ void run_enclose(const ShortcutOptions& o) {
   show(layers, v, std::nullopt, &scene);
 }
 
-void run_mesh(const ShortcutOptions& o) {
-  const Scene scene = app::load_scene(o.scene, o.sets);
+Layer mesh_layer(const TriangleSoup& soup) {
+  Layer m;
+  m.name = "mesh";
+  m.data = soup_to_polydata(soup);
+  m.role = LayerRole::kMesh;
+  return m;
+}
+
+/// What a mesher left for the left view: the mesh and the boxes it could not handle, and the
+/// caption that counts them.
+struct MeshView {
+  std::vector<Layer> layers;
+  std::string caption;
+};
+
+/// The certified mesh (the default of `iaa mesh`) with its uncertified cells in red.
+MeshView certified_view(const Scene& scene, const ShortcutOptions& o, const Exec& exec) {
+  CertifiedMeshSettings cs;
+  cs.bounds = scene.bounds;
+  cs.max_depth = o.max_depth;
+  cs.min_depth = 0;
+  cs.validate();
+  if (o.resolution < 2 || o.resolution > 4096) {
+    throw Error("--resolution: must be in 2..4096, got " + std::to_string(o.resolution));
+  }
+  cs.min_depth = std::min(certified_depth_for_resolution(cs, o.resolution), cs.max_depth);
+  cs.validate();
+  const CertifiedMesh mesh = mesh_certified(*scene.tape, cs, exec);
+  std::printf("mesh: certified, %zu vertices, %zu triangles, %llu leaves, %zu uncertified cells\n",
+              mesh.soup.vertices.size(), mesh.soup.triangles.size(),
+              static_cast<unsigned long long>(mesh.stats.leaves), mesh.uncertified.size());
+  MeshView v;
+  if (!mesh.soup.empty()) v.layers.push_back(mesh_layer(mesh.soup));
+  if (!mesh.uncertified.empty()) {
+    std::vector<LabelledBox> boxes;
+    for (const UncertifiedCell& c : mesh.uncertified) boxes.push_back({c.box, c.depth, c.reason});
+    Layer u;
+    u.name = "uncertified cells";
+    u.data = boxes_to_grid(boxes, scene.expression);
+    u.role = LayerRole::kUncertified;
+    v.layers.push_back(std::move(u));
+  }
+  v.caption = "certified mesh: " + std::to_string(mesh.soup.triangles.size()) + " triangles, " +
+              (mesh.uncertified.empty()
+                   ? std::string("topology certified")
+                   : std::to_string(mesh.uncertified.size()) + " uncertified cells (red)");
+  return v;
+}
+
+/// The octree mesh of the enclosure, with the possible boxes it could not mesh.
+MeshView octree_view(const Scene& scene, const ShortcutOptions& o, const Enclosure& enc,
+                     const Exec& exec) {
   OctreeMeshSettings ms;
   ms.enclose = enclose_settings(scene, o);
   ms.validate();
-  app::ProgressBar bar(o.quiet);
-  Exec exec;
-  exec.threads = o.threads;
-  exec.progress = &bar;
-  const Enclosure enc = enclose(*scene.tape, ms.enclose, exec);
   const OctreeMesh mesh = extract_mesh(*scene.tape, enc, ms, exec);
-  std::printf("mesh: %zu vertices, %zu triangles from %zu boxes; %llu possible boxes not meshed\n",
-              mesh.soup.vertices.size(), mesh.soup.triangles.size(), enc.cells.size(),
-              static_cast<unsigned long long>(mesh.unmeshed.size()));
-  std::vector<Layer> layers;
-  if (!mesh.soup.empty()) {
-    Layer m;
-    m.name = "mesh";
-    m.data = soup_to_polydata(mesh.soup);
-    m.role = LayerRole::kMesh;
-    layers.push_back(std::move(m));
-  }
+  std::printf(
+      "mesh: octree, %zu vertices, %zu triangles from %zu boxes; %llu possible boxes not "
+      "meshed\n",
+      mesh.soup.vertices.size(), mesh.soup.triangles.size(), enc.cells.size(),
+      static_cast<unsigned long long>(mesh.unmeshed.size()));
+  MeshView v;
+  if (!mesh.soup.empty()) v.layers.push_back(mesh_layer(mesh.soup));
   // Boxes the mesher could not mesh may still hold surface: show them beside the mesh.
   if (!mesh.unmeshed.empty()) {
     Enclosure rest;
@@ -114,11 +160,28 @@ void run_mesh(const ShortcutOptions& o) {
     // enclosure_to_grid places corners on the grid of the deepest level in counts_by_depth;
     // without it every cell was shifted by a negative amount and drawn nowhere near its place.
     rest.counts_by_depth = enc.counts_by_depth;
-    Layer u = enclosure_layer(rest, scene, ms.enclose, "unmeshed possible boxes");
-    layers.push_back(std::move(u));
+    v.layers.push_back(enclosure_layer(rest, scene, ms.enclose, "unmeshed possible boxes"));
   }
+  v.caption = "octree mesh: " + std::to_string(mesh.soup.triangles.size()) + " triangles";
+  return v;
+}
+
+void run_mesh(const ShortcutOptions& o) {
+  const Scene scene = app::load_scene(o.scene, o.sets);
+  if (o.method != "certified" && o.method != "octree") {
+    throw Error("--method: unknown mesher '" + o.method + "'; use certified or octree");
+  }
+  const EncloseSettings es = enclose_settings(scene, o);
+  app::ProgressBar bar(o.quiet);
+  Exec exec;
+  exec.threads = o.threads;
+  exec.progress = &bar;
+  const Enclosure enc = enclose(*scene.tape, es, exec);
+  MeshView mv =
+      o.method == "certified" ? certified_view(scene, o, exec) : octree_view(scene, o, enc, exec);
+  std::vector<Layer> layers = std::move(mv.layers);
   if (!enc.cells.empty()) {
-    Layer e = enclosure_layer(enc, scene, ms.enclose, "enclosure");
+    Layer e = enclosure_layer(enc, scene, es, "enclosure");
     e.viewport = 1;
     layers.push_back(std::move(e));
   }
@@ -128,11 +191,11 @@ void run_mesh(const ShortcutOptions& o) {
   ViewOptions v = o.view;
   v.viewports = 2;
   if (v.captions.empty()) {
-    v.captions = {"octree mesh: " + std::to_string(mesh.soup.triangles.size()) + " triangles",
-                  "enclosure: " + std::to_string(enc.cells.size()) + " boxes"};
+    v.captions = {mv.caption, "enclosure: " + std::to_string(enc.cells.size()) + " boxes"};
   }
   if (v.title.empty())
-    v.title = default_title(scene, "mesh and enclosure at depth " + std::to_string(o.depth));
+    v.title = default_title(
+        scene, o.method + " mesh, and the enclosure at depth " + std::to_string(o.depth));
   if (o.view.size == ViewOptions{}.size) v.size = "1200x600";
   show(layers, v, std::nullopt, &scene);
 }
@@ -141,8 +204,9 @@ void run_mesh(const ShortcutOptions& o) {
 
 int run_shortcut(const char* name, int argc, char** argv) {
   const bool is_mesh = std::string(name) == "mesh";
-  CLI::App app{is_mesh ? "iaa-viz mesh: mesh a scene's surface with the octree mesher and show the "
-                         "mesh (left) next to the enclosure it came from (right)"
+  CLI::App app{is_mesh ? "iaa-viz mesh: mesh a scene's surface (certified by default, as iaa mesh) "
+                         "and show the mesh with the cells it could not certify in red (left) "
+                         "next to the scene's enclosure (right)"
                        : "iaa-viz enclose: compute the guaranteed enclosure of a scene's surface "
                          "and show its boxes, coloured by class (crossing / possible)",
                std::string("iaa-viz ") + name};
@@ -151,14 +215,27 @@ int run_shortcut(const char* name, int argc, char** argv) {
   app.add_option("--depth", o.depth, "leaf depth of the enclosure (cells are bounds / 2^depth)")
       ->capture_default_str();
   app.add_option("--refine", o.refine, "extra levels for possible boxes")->capture_default_str();
+  if (is_mesh) {
+    app.add_option("--method", o.method,
+                   "certified (isotopic inside certified cells, as iaa mesh) or octree (from the "
+                   "enclosure at --depth)")
+        ->capture_default_str();
+    app.add_option("--resolution", o.resolution,
+                   "certified: cells of at most 2 edge/N, as iaa mesh --resolution (2..4096)")
+        ->capture_default_str();
+    app.add_option("--max-depth", o.max_depth,
+                   "certified: splits below the root cells at most; deeper cells are uncertified")
+        ->capture_default_str();
+  }
   app.add_option("--set", o.sets, "override a scene key, e.g. --set camera.fov=30 (repeatable)");
   app.add_option("-j,--threads", o.threads, "worker threads (0 = all)");
   app.add_flag("-q,--quiet", o.quiet, "no progress bar");
   add_view_options(app, o.view);
   app.footer(is_mesh
                  ? "Examples:\n"
-                   "  iaa-viz mesh data/scenes/chubs.toml --depth 6 -o chubs-mesh.png\n"
-                   "  iaa-viz mesh data/scenes/teardrop.toml --depth 7 --refine 2 --camera auto\n"
+                   "  iaa-viz mesh data/scenes/teardrop.toml -o teardrop-mesh.png\n"
+                   "  iaa-viz mesh data/scenes/chubs.toml --resolution 128 --camera auto\n"
+                   "  iaa-viz mesh data/scenes/teardrop.toml --method octree --depth 7 --refine 2\n"
                  : "Examples:\n"
                    "  iaa-viz enclose data/scenes/teardrop.toml --depth 6 -o boxes.png\n"
                    "  iaa-viz enclose data/scenes/chubs.toml --depth 5 --camera auto --size "

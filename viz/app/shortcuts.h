@@ -1,5 +1,5 @@
-// `iaa-viz enclose SCENE` and `iaa-viz mesh SCENE`: compute the enclosure (or the octree mesh) of
-// a scene with the iaa library and show it over the scene's camera in one command.
+// `iaa-viz enclose SCENE` and `iaa-viz mesh SCENE`: compute the enclosure (or the certified or
+// octree mesh) of a scene with the iaa library and show it over the scene's camera in one command.
 #pragma once
 
 namespace iaa::viz {
