@@ -21,8 +21,8 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
 
+#include "core/big_allocator.h"
 #include "core/error.h"
 #include "enclose/octree.h"
 #include "expr/eval_interval.h"
@@ -89,6 +89,8 @@ struct Leaf {
   /// not split for fidelity again.
   std::uint8_t keep = 0;
 };
+/// Millions of leaves on fine surfaces: their buffers use huge pages (core/big_allocator.h).
+using Leaves = BigVector<Leaf>;
 
 /// The fine grid: root cells per axis 2^root_bits[a], each split max_depth times.
 struct Grid {
@@ -248,7 +250,7 @@ class Refiner {
 
   /// `parent`: the gradient enclosure of the cell's parent, if it has one without domain
   /// trouble.
-  void refine(Evaluators& e, const Index3& at, int depth, std::vector<Leaf>& out,
+  void refine(Evaluators& e, const Index3& at, int depth, Leaves& out,
               const IGrad* parent = nullptr) const {
     IGrad g;
     bool smooth = false;
@@ -263,7 +265,7 @@ class Refiner {
   /// refine(), with the children of the first `levels` levels of splits refined in parallel (a
   /// scene of one root cell would use one thread otherwise); the same leaves in the same order.
   void refine_parallel(ThreadEvaluators& evals, const Index3& at, int depth, int levels,
-                       std::vector<Leaf>& out) const {
+                       Leaves& out) const {
     Evaluators& e = *evals.local();
     if (levels == 0) return refine(e, at, depth, out);
     IGrad g;
@@ -271,7 +273,7 @@ class Refiner {
     if (const std::optional<Leaf> l = classify(e, at, depth, nullptr, g, smooth)) {
       return emit(e, out, *l);
     }
-    std::array<std::vector<Leaf>, 8> parts;
+    std::array<Leaves, 8> parts;
     tbb::parallel_for(0, 8, [&](int k) {
       RoundingScope scope;
       refine_parallel(evals, child(at, depth, k), depth + 1, levels - 1, parts[std::size_t(k)]);
@@ -344,7 +346,7 @@ class Refiner {
     return std::nullopt;
   }
 
-  void emit(Evaluators& e, std::vector<Leaf>& out, const Leaf& l) const {
+  void emit(Evaluators& e, Leaves& out, const Leaf& l) const {
     out.push_back(l);
     if (++e.pending_leaves == 1024) flush(e);
   }
@@ -368,7 +370,7 @@ struct VertexTable {
     std::uint8_t uncertain;  ///< 1: the sign is undecided; 2 (while filling): to evaluate
   };
   static constexpr Key kNone = ~Key{0};
-  std::vector<Slot> slots;
+  BigVector<Slot> slots;
   /// The first slot of each bucket's region (bucket order z, y, x); region.back() is the slot
   /// count. Each region is empty or a power of two at most 3/4 full.
   std::vector<std::uint32_t> region{0, 0};
@@ -431,9 +433,9 @@ void choose_buckets(VertexTable& t, const Grid& grid, std::size_t entries) {
 constexpr std::uint64_t kFresh = 3;
 
 /// The table's points and the corners of `fresh`, as key << 3 | code, in no particular order.
-std::vector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid,
-                                         const std::vector<Leaf>& fresh, const Exec& exec) {
-  std::vector<std::uint64_t> all;
+BigVector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid, const Leaves& fresh,
+                                       const Exec& exec) {
+  BigVector<std::uint64_t> all;
   for (const VertexTable::Slot& s : t.slots) {
     if (s.key == VertexTable::kNone) continue;
     all.push_back(s.key << 3 | (s.uncertain == 2 ? 5 : (s.uncertain ? 2 : (s.sign > 0 ? 1 : 0))));
@@ -459,10 +461,9 @@ std::vector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid,
 }
 
 /// `entries` grouped by bucket (a counting sort); `start` gets each bucket's first entry.
-std::vector<std::uint64_t> by_bucket(const VertexTable& t,
-                                     const std::vector<std::uint64_t>& entries,
-                                     std::vector<std::uint32_t>& start, const Exec& exec) {
-  std::vector<std::uint32_t> bucket(entries.size());
+BigVector<std::uint64_t> by_bucket(const VertexTable& t, const BigVector<std::uint64_t>& entries,
+                                   std::vector<std::uint32_t>& start, const Exec& exec) {
+  BigVector<std::uint32_t> bucket(entries.size());
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16384), [&](auto r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
@@ -474,7 +475,7 @@ std::vector<std::uint64_t> by_bucket(const VertexTable& t,
   for (const std::uint32_t b : bucket) ++start[b + 1];
   for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
   std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-  std::vector<std::uint64_t> out(entries.size());
+  BigVector<std::uint64_t> out(entries.size());
   for (std::size_t i = 0; i < entries.size(); ++i) out[next[bucket[i]]++] = entries[i];
   return out;
 }
@@ -518,7 +519,7 @@ void put(VertexTable& t, std::uint64_t e, std::size_t b) {
 /// Adds the new points among `entries` (corners of new leaves) to the table in place: false,
 /// with some added, when a region would be more than 3/4 full (the table is then rebuilt, each
 /// region at most half full).
-bool add_in_place(VertexTable& t, std::vector<std::uint64_t>& entries) {
+bool add_in_place(VertexTable& t, BigVector<std::uint64_t>& entries) {
   std::sort(entries.begin(), entries.end());
   for (std::size_t i = 0; i < entries.size(); ++i) {
     if (i > 0 && (entries[i - 1] >> 3) == (entries[i] >> 3)) continue;
@@ -552,13 +553,13 @@ void evaluate_signs(VertexTable& t, const Grid& grid, ThreadEvaluators& evals, c
 /// with what is known of its sign: proved by an empty leaf, else evaluated. Points already in the
 /// table keep theirs. They go into the regions in place if there is room; otherwise the table is
 /// rebuilt, in parallel over buckets.
-void add_vertices(VertexTable& t, const Grid& grid, const std::vector<Leaf>& fresh,
-                  ThreadEvaluators& evals, const Exec& exec) {
+void add_vertices(VertexTable& t, const Grid& grid, const Leaves& fresh, ThreadEvaluators& evals,
+                  const Exec& exec) {
   if (!t.slots.empty()) {
-    std::vector<std::uint64_t> entries = table_entries(VertexTable{}, grid, fresh, exec);
+    BigVector<std::uint64_t> entries = table_entries(VertexTable{}, grid, fresh, exec);
     if (add_in_place(t, entries)) return evaluate_signs(t, grid, evals, exec);
   }
-  std::vector<std::uint64_t> entries = table_entries(t, grid, fresh, exec);
+  BigVector<std::uint64_t> entries = table_entries(t, grid, fresh, exec);
   VertexTable n;
   choose_buckets(n, grid, entries.size());
   n.region.assign(std::size_t{n.buckets[0]} * n.buckets[1] * n.buckets[2] + 1, 0);
@@ -611,6 +612,45 @@ struct CellOut {
   std::vector<std::pair<Key, Vec3>> crossings;  ///< local vertices 0..n-1
   std::vector<Vec3> centres;                    ///< local vertices n..
   std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+
+/// The crossings one extractor placed, by id: up to four leaves share an edge piece, and each
+/// placement (regula falsi, several evaluations of f) is kept for the leaves after it. Open
+/// addressing in one array: a node-based map allocated once per crossing.
+class PlacedCrossings {
+ public:
+  const Vec3* find(Key id) const {
+    if (slots_.empty()) return nullptr;
+    for (std::size_t h = slot_of(id);; h = (h + 1) & (slots_.size() - 1)) {
+      if (slots_[h].first == id) return &slots_[h].second;
+      if (slots_[h].first == kNone) return nullptr;
+    }
+  }
+  /// Adds id (not present) at p; returns p.
+  const Vec3& insert(Key id, const Vec3& p) {
+    if (4 * (used_ + 1) > 3 * slots_.size()) grow();
+    std::size_t h = slot_of(id);
+    while (slots_[h].first != kNone) h = (h + 1) & (slots_.size() - 1);
+    slots_[h] = {id, p};
+    ++used_;
+    return slots_[h].second;
+  }
+
+ private:
+  // An id is an edge's lower end (at most 60 bits) shifted by 2: never all ones.
+  static constexpr Key kNone = ~Key{0};
+  std::size_t slot_of(Key id) const { return VertexTable::hash(id) & (slots_.size() - 1); }
+  void grow() {
+    std::vector<std::pair<Key, Vec3>> old(std::max<std::size_t>(1024, 2 * slots_.size()),
+                                          {kNone, Vec3{}});
+    old.swap(slots_);
+    used_ = 0;
+    for (const auto& [id, p] : old) {
+      if (id != kNone) insert(id, p);
+    }
+  }
+  std::vector<std::pair<Key, Vec3>> slots_;
+  std::size_t used_ = 0;
 };
 
 class Extractor {
@@ -841,11 +881,14 @@ class Extractor {
   // Places the leaf's crossings (out_.crossings, in the order of crossings_).
   void place_crossings() {
     out_.crossings.clear();
+    // Exact sizes: these vectors are made for some 100 000 leaves, and growing them by doubling
+    // would allocate each several times.
+    out_.crossings.reserve(crossings_.size());
+    out_.triangles.reserve(segments_.size());  // a loop of m > 3 segments gives m triangles
     for (const Crossing& c : crossings_) {
       // Up to four leaves share an edge piece: each placement is kept for the leaves after it.
-      auto it = placed_.find(c.id);
-      if (it == placed_.end()) it = placed_.emplace(c.id, place(c)).first;
-      out_.crossings.emplace_back(c.id, it->second);
+      const Vec3* at = placed_.find(c.id);
+      out_.crossings.emplace_back(c.id, at ? *at : placed_.insert(c.id, place(c)));
     }
   }
 
@@ -1020,7 +1063,7 @@ class Extractor {
   std::vector<Key> cycle_;
   std::vector<Crossing> crossings_;
   std::vector<std::pair<Key, Key>> segments_;
-  std::unordered_map<Key, Vec3> placed_;  ///< crossings placed by this extractor (one range)
+  PlacedCrossings placed_;  ///< crossings placed by this extractor (one range of leaves)
   /// The leaf's corners and their signs, and whether a finer neighbour puts corners on its faces.
   std::array<Key, 8> corner_keys_{};
   std::array<std::int8_t, 8> corner_signs_{};
@@ -1048,9 +1091,9 @@ Grid make_grid(const CertifiedMeshSettings& s) {
 
 /// Phase 1 over a list of cells, in parallel; leaves in the order of the cells, each cell's
 /// leaves depth-first, whatever the thread count.
-std::vector<Leaf> refine_all(const Refiner& r, const std::vector<std::pair<Index3, int>>& cells,
-                             ThreadEvaluators& evals, const Exec& exec) {
-  std::vector<std::vector<Leaf>> parts(cells.size());
+Leaves refine_all(const Refiner& r, const std::vector<std::pair<Index3, int>>& cells,
+                  ThreadEvaluators& evals, const Exec& exec) {
+  std::vector<Leaves> parts(cells.size());
   // Few cells (a scene of one root cell): their top levels split in parallel too, so that there
   // are at least 256 tasks.
   int levels = 0;
@@ -1062,21 +1105,24 @@ std::vector<Leaf> refine_all(const Refiner& r, const std::vector<std::pair<Index
     });
   });
   for (auto& e : evals) r.flush(*e);
-  std::vector<Leaf> out;
+  std::size_t total = 0;
+  for (const auto& p : parts) total += p.size();
+  Leaves out;
+  out.reserve(total);
   for (auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   return out;
 }
 
 struct Round {
   VertexTable table;
-  std::vector<CellOut> outs;  ///< per leaf (empty for empty leaves)
+  BigVector<CellOut> outs;  ///< per leaf (empty for empty leaves)
 };
 
 /// Extraction of every non-empty leaf, or of those `todo` marks (CellOut per leaf, empty for
 /// empty leaves).
-void extract_all(const Grid& grid, const std::vector<Leaf>& leaves, const VertexTable& table,
+void extract_all(const Grid& grid, const Leaves& leaves, const VertexTable& table,
                  const CertifiedMeshSettings& s, ThreadEvaluators& evals, const Exec& exec,
-                 std::vector<CellOut>& outs, const std::vector<char>* todo = nullptr) {
+                 BigVector<CellOut>& outs, const std::vector<char>* todo = nullptr) {
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](auto range) {
       RoundingScope scope;
@@ -1091,14 +1137,14 @@ void extract_all(const Grid& grid, const std::vector<Leaf>& leaves, const Vertex
 
 /// The leaves after a round: the failing certified ones replaced by their refinement.
 struct Split {
-  std::vector<Leaf> leaves;
+  Leaves leaves;
   std::vector<std::int64_t> origin;  ///< per leaf: its index before the split, or -1 if new
-  std::vector<Leaf> fresh;           ///< the new leaves
-  std::vector<Leaf> split;           ///< the leaves that were split
+  Leaves fresh;                      ///< the new leaves
+  Leaves split;                      ///< the leaves that were split
 };
 
-Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& leaves,
-                   const std::vector<CellOut>& outs, ThreadEvaluators& evals, const Exec& exec) {
+Split split_failed(const Grid& grid, const Refiner& r, const Leaves& leaves,
+                   const BigVector<CellOut>& outs, ThreadEvaluators& evals, const Exec& exec) {
   Split out;
   std::vector<std::pair<Index3, int>> cells;
   std::vector<std::size_t> where;
@@ -1116,7 +1162,7 @@ Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& 
     where.push_back(i);
   }
   if (where.empty()) return out;
-  const std::vector<Leaf> fresh = refine_all(r, cells, evals, exec);
+  const Leaves fresh = refine_all(r, cells, evals, exec);
   // The new leaves of where[j] follow each other in `fresh`, in the order of `where`.
   out.leaves.reserve(leaves.size() + fresh.size());
   std::size_t next = 0, w = 0;
@@ -1164,7 +1210,7 @@ Split split_failed(const Grid& grid, const Refiner& r, const std::vector<Leaf>& 
 /// size, the coarser leaf that holds it, or the finer leaves inside it that touch the leaf.
 class Neighbours {
  public:
-  Neighbours(const Grid& grid, const std::vector<Leaf>& leaves) : grid_(grid) {
+  Neighbours(const Grid& grid, const Leaves& leaves) : grid_(grid) {
     index_.reserve(leaves.size());
     for (std::size_t i = 0; i < leaves.size(); ++i)
       index_.emplace(id(leaves[i].depth, leaves[i].at), i);
@@ -1245,8 +1291,7 @@ class Neighbours {
 };
 
 /// Marks the leaves that touch one of the `split` leaves: their face pieces may have changed.
-std::vector<char> touching(const Grid& grid, const std::vector<Leaf>& leaves,
-                           const std::vector<Leaf>& split) {
+std::vector<char> touching(const Grid& grid, const Leaves& leaves, const Leaves& split) {
   std::vector<char> mark(leaves.size(), 0);
   Neighbours n(grid, leaves);
   for (const Leaf& l : split) n.mark_around(l, mark);
@@ -1265,8 +1310,8 @@ std::vector<std::uint32_t> weld(const Round& r, const Exec& exec, TriangleSoup& 
     first[i] = n;
     n += std::uint32_t(r.outs[i].crossings.size());
   }
-  std::vector<std::pair<Key, std::uint32_t>> ids(n);  // crossing id, its number
-  std::vector<const Vec3*> at(n);
+  BigVector<std::pair<Key, std::uint32_t>> ids(n);  // crossing id, its number
+  BigVector<const Vec3*> at(n);
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, r.outs.size(), 1024), [&](auto range) {
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
@@ -1281,6 +1326,12 @@ std::vector<std::uint32_t> weld(const Round& r, const Exec& exec, TriangleSoup& 
                        [](const auto& a, const auto& b) { return a.first < b.first; });
   });
   std::vector<std::uint32_t> vertex(n);
+  // The soup's final size (welded crossings, then the fans' centres), reserved once: grown by
+  // doubling, its copies were a third of the mesher's page faults.
+  std::size_t unique = 0, centres = 0;
+  for (std::size_t j = 0; j < ids.size(); ++j) unique += j == 0 || ids[j].first != ids[j - 1].first;
+  for (const CellOut& o : r.outs) centres += o.centres.size();
+  soup.vertices.reserve(soup.vertices.size() + unique + centres);
   for (std::size_t j = 0; j < ids.size(); ++j) {
     if (j == 0 || ids[j].first != ids[j - 1].first) soup.vertices.push_back(*at[ids[j].second]);
     vertex[ids[j].second] = std::uint32_t(soup.vertices.size() - 1);
@@ -1289,8 +1340,8 @@ std::vector<std::uint32_t> weld(const Round& r, const Exec& exec, TriangleSoup& 
 }
 
 /// Joins the leaves' pieces into one mesh (crossings welded by id) and fills the statistics.
-void assemble(const Grid& grid, const std::vector<Leaf>& leaves, const Round& r, bool strict,
-              const Exec& exec, CertifiedMesh& m) {
+void assemble(const Grid& grid, const Leaves& leaves, const Round& r, bool strict, const Exec& exec,
+              CertifiedMesh& m) {
   TriangleSoup& soup = m.soup;
   std::vector<std::uint32_t> first_crossing;
   const std::vector<std::uint32_t> vertex = weld(r, exec, soup, first_crossing);
@@ -1404,7 +1455,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
     phase_seconds += std::chrono::duration<double>(now - clock).count();
     clock = now;
   };
-  std::vector<Leaf> leaves = refine_all(refiner, roots, evals, exec);
+  Leaves leaves = refine_all(refiner, roots, evals, exec);
   lap(st.seconds_refine);
   // Round 1 extracts every leaf; later rounds only the new leaves and those touching a split one.
   Round r;
@@ -1422,7 +1473,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
     add_vertices(r.table, grid, sp.fresh, evals, exec);
     lap(st.seconds_table);
     std::vector<char> todo = touching(grid, sp.leaves, sp.split);
-    std::vector<CellOut> outs(sp.leaves.size());
+    BigVector<CellOut> outs(sp.leaves.size());
     for (std::size_t i = 0; i < sp.leaves.size(); ++i) {
       if (sp.origin[i] < 0)
         todo[i] = 1;
