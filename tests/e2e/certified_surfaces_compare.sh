@@ -6,16 +6,9 @@
 # shows some. Each surface is rendered with the thin torus scene's camera.
 # $1 = bin directory, $2 = source directory.
 set -euo pipefail
-bin="$1"
+# shellcheck source=lib/compare.bash
+source "$(dirname "${BASH_SOURCE[0]}")/lib/compare.bash" certified_surfaces_compare "$1"
 scene="$2/data/scenes/thin_torus.toml"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-probe="$("$bin/iaa" compare none.toml --mesh none.ply -o "$tmp/probe.png" 2>&1 || true)"
-if grep -q "built without" <<< "$probe"; then
-  echo "certified_surfaces_compare: skipped (this iaa was built without CGAL or OpenMesh)"
-  exit 0
-fi
 
 # name | expression | min | max | components | Euler characteristic | extra mesh flags
 surfaces=(
@@ -43,13 +36,7 @@ for entry in "${surfaces[@]}"; do
   # wide and the render certifies no pixel covered, so there would be nothing to lose.
   size=(--set image.width=200 --set image.height=200)
   [ "$name" != thin_torus ] || size=()
-  "$bin/iaa" compare "$scene" "${set_args[@]}" ${size[@]+"${size[@]}"} --mesh "$tmp/$name.ply" -o "$tmp/$name.png" --report "$tmp/$name.json" -q > /dev/null
-  # Not vacuous: the camera sees the surface.
-  grep -q '"both_surface": [1-9]' "$tmp/$name.json" || fail "$name: no surface in view"
-  grep -q '"lost": 0,' "$tmp/$name.json" || {
-    grep -A3 '"lost"' "$tmp/$name.json" >&2
-    fail "$name: the certified mesh loses pixels"
-  }
+  expect_no_lost_pixel "$name" "$scene" "$tmp/$name.ply" "${set_args[@]}" ${size[@]+"${size[@]}"}
   rm -f "$tmp/$name.ply"
 done
 echo "certified_surfaces_compare: ok"

@@ -2,15 +2,8 @@
 # End-to-end: `iaa compare` of a sphere mesh against the sphere scene, and its errors for
 # unreadable, empty and NaN meshes. $1 = bin directory, $2 = source directory.
 set -euo pipefail
-bin="$1"
-tmp="$(mktemp -d)"
-trap 'rm -rf "$tmp"' EXIT
-fail() { echo "FAIL: $*" >&2; exit 1; }
-probe="$("$bin/iaa" compare none.toml --mesh none.ply -o "$tmp/probe.png" 2>&1 || true)"
-if grep -q "built without" <<< "$probe"; then
-  echo "mesh_compare: skipped (this iaa was built without CGAL or OpenMesh)"
-  exit 0
-fi
+# shellcheck source=lib/compare.bash
+source "$(dirname "${BASH_SOURCE[0]}")/lib/compare.bash" mesh_compare "$1"
 cat > "$tmp/sphere.toml" <<'TOML'
 name = "sphere"
 [surface]

@@ -56,6 +56,16 @@ Layer enclosure_layer(const Enclosure& enc, const Scene& scene, const EncloseSet
   return l;
 }
 
+/// The threads and progress bar the options ask for.
+struct ShortcutExec {
+  explicit ShortcutExec(const ShortcutOptions& o) : bar(o.quiet) {
+    exec.threads = o.threads;
+    exec.progress = &bar;
+  }
+  app::ProgressBar bar;
+  Exec exec;
+};
+
 std::string default_title(const Scene& scene, const std::string& what) {
   return (scene.name.empty() ? std::string("scene") : scene.name) + ": " + what;
 }
@@ -63,11 +73,8 @@ std::string default_title(const Scene& scene, const std::string& what) {
 void run_enclose(const ShortcutOptions& o) {
   const Scene scene = app::load_scene(o.scene, o.sets);
   const EncloseSettings s = enclose_settings(scene, o);
-  app::ProgressBar bar(o.quiet);
-  Exec exec;
-  exec.threads = o.threads;
-  exec.progress = &bar;
-  const Enclosure enc = enclose(*scene.tape, s, exec);
+  const ShortcutExec run(o);
+  const Enclosure enc = enclose(*scene.tape, s, run.exec);
   const std::uint64_t crossing = enc.count(CellClass::kCrossing);
   const std::uint64_t possible = enc.count(CellClass::kPossible);
   std::printf(
@@ -172,13 +179,10 @@ void run_mesh(const ShortcutOptions& o) {
     throw Error("--method: unknown mesher '" + o.method + "'; use certified or octree");
   }
   const EncloseSettings es = enclose_settings(scene, o);
-  app::ProgressBar bar(o.quiet);
-  Exec exec;
-  exec.threads = o.threads;
-  exec.progress = &bar;
-  const Enclosure enc = enclose(*scene.tape, es, exec);
-  MeshView mv =
-      o.method == "certified" ? certified_view(scene, o, exec) : octree_view(scene, o, enc, exec);
+  const ShortcutExec run(o);
+  const Enclosure enc = enclose(*scene.tape, es, run.exec);
+  MeshView mv = o.method == "certified" ? certified_view(scene, o, run.exec)
+                                        : octree_view(scene, o, enc, run.exec);
   std::vector<Layer> layers = std::move(mv.layers);
   if (!enc.cells.empty()) {
     Layer e = enclosure_layer(enc, scene, es, "enclosure");
