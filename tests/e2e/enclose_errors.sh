@@ -29,6 +29,7 @@ expect_error "the z range 1:-1 is inverted" --expr 'x' --bounds -1:1,-1:1,1:-1
 expect_error "expected three ranges" --expr 'x' --bounds -1:1,-1:1
 expect_error "line 1, column" --expr 'x^2 + * y' --bounds -1:1,-1:1,-1:1
 expect_error "no surface" --depth 3
+expect_error "f is undefined (NaN) everywhere in the bounds" --expr "sqrt(-1 - x^2) - 1" --bounds -1:1,-1:1,-1:1
 expect_error "cannot read" "$tmp/no-such-scene.toml"
 
 # Unwritable outputs: a missing directory, a read-only one (skipped as root, who may write there),

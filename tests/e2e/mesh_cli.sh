@@ -96,6 +96,8 @@ expect_error "uncertified cells may hold surface" "$tmp/e3.ply" "$bin/iaa" mesh 
 expect_error "give either a SCENE or --expr" "$tmp/e3.ply" "$bin/iaa" mesh "$2/data/scenes/teardrop.toml" \
   --expr x -o "$tmp/e3.ply"
 expect_error "--bounds" "$tmp/e4.ply" "$bin/iaa" mesh --expr 'x' --bounds 1:0,0:1,0:1 -o "$tmp/e4.ply"
+expect_error "f is undefined (NaN) everywhere" "$tmp/e4.ply" "$bin/iaa" mesh --expr "sqrt(-1 - x^2) - 1" \
+  --bounds -1:1,-1:1,-1:1 -o "$tmp/e4.ply"
 expect_error "depth + refine" "$tmp/e5.ply" "$bin/iaa" mesh "${sphere[@]}" --method octree --depth 16 --refine 8 -o "$tmp/e5.ply"
 expect_error "max depth must be in 1..14" "$tmp/e5.ply" "$bin/iaa" mesh "${sphere[@]}" --max-depth 30 -o "$tmp/e5.ply"
 expect_error "min-depth" "$tmp/e5.ply" "$bin/iaa" mesh "${sphere[@]}" --min-depth -3 -o "$tmp/e5.ply"

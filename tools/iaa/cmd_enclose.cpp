@@ -151,6 +151,8 @@ Surface load_surface(const EncloseOptions& o) {
     surface.tape = std::make_shared<const Tape>(Tape::parse(o.expr, parse_params(o.params)));
     surface.bounds = parse_bounds(o.bounds);
   }
+  // As a scene file's surface is checked, and again when --bounds replaced the scene's bounds.
+  validate_surface(*surface.tape, surface.bounds);
   return surface;
 }
 

@@ -63,6 +63,7 @@ inline Surface load_surface(const std::string& scene_path, const std::string& ex
   for (int a = 0; a < 3; ++a) {
     if (!(s.bounds.lo[a] < s.bounds.hi[a])) throw Error("--bounds: every range must have LO < HI");
   }
+  validate_surface(*s.tape, s.bounds);  // as a scene file's surface is checked
   return s;
 }
 
