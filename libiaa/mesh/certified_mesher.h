@@ -5,18 +5,19 @@
 // *empty* (0 outside the interval value of f over the closed cell, natural or mean-value form) or
 // *certified*: f is strictly monotone along one fixed direction over the cell (Plantinga and
 // Vegter's test, 0 outside the dot product of two independent gradient enclosures, or 0 outside
-// d.G for a fixed direction d), every face piece of its boundary (faces are cut where a finer
-// neighbour touches them) shows at most two sign changes, the crossings on its boundary close
-// into at most one loop, and that loop's fan around an inner point projects one-to-one along the
-// loop's normal. The surface then meets each certified cell in one disc (or not at all) and the
-// mesh has a vertex on each crossed edge piece, a segment across each crossed face piece and a
-// fan over each loop. Closed curves of the surface inside a face, and double crossings of an
-// edge, which corner signs cannot see, are either excluded by proof (`strict`: no critical point
-// of f on any face, f monotone on every edge), which gives an ambient isotopy mapping every cell
-// to itself, or pushed across by Plantinga and Vegter's argument (the default). docs/mesh.md
-// states the rules and the argument. For fidelity only, a leaf that passes every rule is split
-// once more where a segment across one of its faces cuts a bent surface (a thin rim) back by
-// more than a quarter of its edge (docs/mesh.md, "Fidelity split").
+// d.G for a fixed direction d, and then also no critical point of f on the faces that d crosses
+// and f monotone on the edges not along d), every face piece of its boundary (faces are cut where
+// a finer neighbour touches them) shows at most two sign changes, the crossings on its boundary
+// close into at most one loop, and that loop's fan around an inner point projects one-to-one
+// along the loop's normal. The surface then meets each certified cell in one disc (or not at
+// all) and the mesh has a vertex on each crossed edge piece, a segment across each crossed face
+// piece and a fan over each loop. Closed curves of the surface inside a face, and double
+// crossings of an edge, which corner signs cannot see, are excluded by proof in cells certified by
+// a fixed direction (and in every cell with `strict`), and pushed across by Plantinga and Vegter's
+// argument in cells certified by their cone test (the default). docs/mesh.md states the rules and
+// the argument. For fidelity only, a leaf that passes every rule is split once more where a
+// segment across one of its faces cuts a bent surface (a thin rim) back by more than a quarter of
+// its edge (docs/mesh.md, "Fidelity split").
 //
 // A leaf that reaches the depth limit without either certificate is *uncertified*: meshed by the
 // same rules as well as they go (never dropped) and returned, so that callers can report it.
@@ -54,9 +55,11 @@ struct CertifiedMeshSettings {
   /// Also prove, for every certified cell, that f has no critical point on its faces (tangential
   /// gradient) and is monotone along its edges, so that no closed curve or double crossing of the
   /// surface can hide inside a face or an edge and each cell holds exactly the disc its loop
-  /// shows. Without it the closed curves and double crossings that corner signs cannot see are
-  /// pushed across by Plantinga and Vegter's argument (docs/mesh.md). Strict mode refines much
-  /// deeper where the surface is tangent to a grid plane.
+  /// shows. Without it, cells certified by a fixed direction prove this for the faces and edges
+  /// that direction does not already cover, and in cells certified by the cone test the closed
+  /// curves and double crossings that corner signs cannot see are pushed across by Plantinga and
+  /// Vegter's argument (docs/mesh.md). Strict mode refines much deeper where the surface is
+  /// tangent to a grid plane.
   bool strict = false;
 
   /// Fine grid coordinates must fit 19 bits per axis: max_depth + log2(roots per axis) <= 19.
