@@ -1,5 +1,7 @@
 #include "core/interval.h"
 
+#include "core/elementary.h"
+
 #include <algorithm>
 #include <bit>
 #include <cassert>
@@ -42,11 +44,6 @@ CriticalPoints critical_points(double lo, double hi, double offset, double inv_p
 // whole range.
 constexpr double kTrigArgLimit = 1e6;
 constexpr double kInvPi = std::numbers::inv_pi;
-
-// k is integer-valued with |k| <= kTrigArgLimit / pi + 1, exact in an int64.
-bool is_even(double k) {
-  return (static_cast<std::int64_t>(k) & 1) == 0;
-}
 
 // The next double below (above) a finite v, without the library call of std::nextafter: the
 // bit pattern of a double is monotone in its magnitude. -DBL_MAX steps to -inf (and DBL_MAX to
@@ -107,6 +104,18 @@ template <class F>
 std::pair<double, double> at_ends(const Interval& x, F f) {
   const LibmNearest nearest;
   return {f(x.lo()), f(x.hi())};
+}
+
+// v - (elementary::kRelErr |v| + abs) rounded down, and v + (...) rounded up: the ends of an
+// enclosure of f(x) from a kernel value v of elementary.h with the absolute error term `abs`.
+// Needs upward rounding: the error term and the upper end round up, and -((-v) + err) rounds the
+// lower end down. kRelErr is a power of 2, so the product is exact unless it underflows (then it
+// rounds up too).
+double below(double v, double abs) {
+  return -((-v) + (elementary::kRelErr * std::fabs(v) + abs));
+}
+double above(double v, double abs) {
+  return v + (elementary::kRelErr * std::fabs(v) + abs);
 }
 
 }  // namespace
@@ -205,13 +214,32 @@ Interval sqrt(const Interval& x, Domain* dom) {
   return Interval(r_lo, std::sqrt(x.hi()));
 }
 
+namespace {
+// The lower (upper) bound of exp over an interval with the end v: by the kernel (elementary.h)
+// widened by its bound where |v| <= kExpMax, else glibc's exp widened by kTranscUlps (in
+// round-to-nearest). Each bound depends on its own end only, by one rule for every interval,
+// so that the bounds over a box enclose those over every box inside it.
+double exp_below(double v) {
+  if (std::fabs(v) <= elementary::kExpMax) return below(elementary::exp_kernel(v), 0.0);
+  double e;
+  {
+    const LibmNearest nearest;
+    e = std::exp(v);
+  }
+  // exp > 0 and finite for every real argument: the lower bound lies in [0, DBL_MAX].
+  return std::clamp(widen_down(e), 0.0, DBL_MAX);
+}
+double exp_above(double v) {
+  if (std::fabs(v) <= elementary::kExpMax) return above(elementary::exp_kernel(v), 0.0);
+  const LibmNearest nearest;
+  return widen_up(std::exp(v));
+}
+}  // namespace
+
 Interval exp(const Interval& x) {
   if (x.is_empty()) return x;
-  // exp > 0 and finite for every real argument, so clamp the lower bound into (0, DBL_MAX].
-  const auto [e_lo, e_hi] = at_ends(x, [](double v) { return std::exp(v); });
-  const double lo = std::clamp(widen_down(e_lo), 0.0, DBL_MAX);
-  const double hi = widen_up(e_hi);
-  return Interval(lo, hi);
+  IAA_ASSERT_UPWARD();
+  return Interval(exp_below(x.lo()), exp_above(x.hi()));
 }
 
 Interval log(const Interval& x, Domain* dom) {
@@ -232,42 +260,57 @@ namespace {
 bool trig_takes_whole_range(const Interval& x) {
   return !x.is_finite() || x.mag() > kTrigArgLimit || x.hi() - x.lo() >= 2.0 * kPi;
 }
-// Shared by sin and cos, given f at the two ends of a non-empty x that is not
-// trig_takes_whole_range: f has its maxima at max_offset + 2k pi and minima at
-// max_offset + (2k+1) pi.
-Interval periodic_unit(const Interval& x, double a, double b, double max_offset) {
-  double lo = widen_down(std::min(a, b));
-  double hi = widen_up(std::max(a, b));
-  // Extrema lie at max_offset + k pi: even k is a maximum, odd k a minimum.
-  const CriticalPoints c = critical_points(x.lo(), x.hi(), max_offset, kInvPi);
-  if (c.any) {
-    if (c.k_last > c.k_first || is_even(c.k_first)) hi = 1.0;
-    if (c.k_last > c.k_first || !is_even(c.k_first)) lo = -1.0;
-  }
-  return Interval(std::max(lo, -1.0), std::min(hi, 1.0));
+
+// One end of an argument of sin and cos: its reduction x = k pi/2 + r (elementary.h), sin r,
+// cos r and the absolute error term of the values.
+struct TrigEnd {
+  elementary::Quadrant q;
+  double s, c, abs;
+};
+TrigEnd trig_end(double x) {
+  const elementary::Quadrant q = elementary::reduce_half_pi(x);
+  return {q, elementary::sin_poly(q.r), elementary::cos_poly(q.r), elementary::trig_abs_err(q)};
+}
+
+// The range of sin (shift 0) or cos (shift 1) over [a, b], x = [a, b] not
+// trig_takes_whole_range. Both take their extrema at the multiples n pi/2, sin(n pi/2) being
+// 0, 1, 0, -1 for n = 0, 1, 2, 3 mod 4 (cos: n + 1). The multiples that may lie in [a, b] are
+// n = a.k .. b.k, without a.k when r_a is certainly > 0 (a > a.k pi/2) and without b.k when r_b
+// is certainly < 0: the reduced arguments are within 2^-51 |r| + 2^-99 of the exact ones
+// (elementary.h), so a computed r beyond 2^-90 has the sign of the exact one; |r| < pi/4 puts
+// every other multiple outside. Four or more of them give [-1, 1].
+Interval trig_range(const TrigEnd& a, const TrigEnd& b, int shift) {
+  const double va = elementary::sin_of(a.q.k + shift, a.s, a.c);
+  const double vb = elementary::sin_of(b.q.k + shift, b.s, b.c);
+  double lo = std::min(below(va, a.abs), below(vb, b.abs));
+  double hi = std::max(above(va, a.abs), above(vb, b.abs));
+  constexpr double kSure = 0x1p-90;
+  const std::int64_t first = a.q.r > kSure ? a.q.k + 1 : a.q.k;
+  const std::int64_t last = b.q.r < -kSure ? b.q.k - 1 : b.q.k;
+  // Branch-free: the multiples first .. last (count of them) hold the maximum (n + shift = 1 mod
+  // 4) when the first such n is within count of `first`, likewise the minimum (3 mod 4).
+  const std::int64_t count = last - first + 1, phase = first + shift;
+  if (((1 - phase) & 3) < count) hi = 1.0;
+  if (((3 - phase) & 3) < count) lo = -1.0;
+  return Interval::raw(std::max(lo, -1.0), std::min(hi, 1.0));
 }
 }  // namespace
 
 void sincos(double v, double* s, double* c) {
-#if defined(__GLIBC__)
-  ::sincos(v, s, c);
-#else
-  *s = std::sin(v);
-  *c = std::cos(v);
-#endif
+  elementary::sincos(v, s, c);
 }
 
 Interval sin(const Interval& x) {
   if (x.is_empty()) return x;
   if (trig_takes_whole_range(x)) return Interval(-1.0, 1.0);
-  const auto [a, b] = at_ends(x, [](double v) { return std::sin(v); });
-  return periodic_unit(x, a, b, kPi / 2.0);
+  IAA_ASSERT_UPWARD();
+  return trig_range(trig_end(x.lo()), trig_end(x.hi()), 0);
 }
 Interval cos(const Interval& x) {
   if (x.is_empty()) return x;
   if (trig_takes_whole_range(x)) return Interval(-1.0, 1.0);
-  const auto [a, b] = at_ends(x, [](double v) { return std::cos(v); });
-  return periodic_unit(x, a, b, 0.0);
+  IAA_ASSERT_UPWARD();
+  return trig_range(trig_end(x.lo()), trig_end(x.hi()), 1);
 }
 void sincos(const Interval& x, Interval* s, Interval* c) {
   if (x.is_empty()) {
@@ -278,14 +321,10 @@ void sincos(const Interval& x, Interval* s, Interval* c) {
     *s = *c = Interval(-1.0, 1.0);
     return;
   }
-  double sl, cl, sh, ch;
-  {
-    const LibmNearest nearest;
-    sincos(x.lo(), &sl, &cl);
-    sincos(x.hi(), &sh, &ch);
-  }
-  *s = periodic_unit(x, sl, sh, kPi / 2.0);
-  *c = periodic_unit(x, cl, ch, 0.0);
+  IAA_ASSERT_UPWARD();
+  const TrigEnd a = trig_end(x.lo()), b = trig_end(x.hi());
+  *s = trig_range(a, b, 0);
+  *c = trig_range(a, b, 1);
 }
 
 Interval tan(const Interval& x, Domain* dom) {

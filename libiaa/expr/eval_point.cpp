@@ -2,6 +2,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/elementary.h"
 #include "expr/eval_point.h"
 #include "expr/eval_point_grad.h"
 
@@ -18,16 +19,16 @@ double PointRules::sqrt(double a, Domain*) {
   return std::sqrt(a);
 }
 double PointRules::exp(double a) {
-  return std::exp(a);
+  return elementary::exp(a);
 }
 double PointRules::log(double a, Domain*) {
   return a > 0.0 ? std::log(a) : std::numeric_limits<double>::quiet_NaN();
 }
 double PointRules::sin(double a) {
-  return std::sin(a);
+  return elementary::sin(a);
 }
 double PointRules::cos(double a) {
-  return std::cos(a);
+  return elementary::cos(a);
 }
 std::pair<double, double> PointRules::sincos(double a) {
   std::pair<double, double> r;
@@ -67,17 +68,19 @@ PGrad PointGradRules::sqrt(const PGrad& a, Domain*) {
   return {v, a.g / (2.0 * v)};
 }
 PGrad PointGradRules::exp(const PGrad& a) {
-  const double v = std::exp(a.v);
+  const double v = elementary::exp(a.v);
   return {v, a.g * v};
 }
 PGrad PointGradRules::log(const PGrad& a, Domain* d) {
   return {PointRules::log(a.v, d), a.g / a.v};
 }
 PGrad PointGradRules::sin(const PGrad& a) {
-  return {std::sin(a.v), a.g * std::cos(a.v)};
+  const auto [s, c] = PointRules::sincos(a.v);
+  return {s, a.g * c};
 }
 PGrad PointGradRules::cos(const PGrad& a) {
-  return {std::cos(a.v), a.g * -std::sin(a.v)};
+  const auto [s, c] = PointRules::sincos(a.v);
+  return {c, a.g * -s};
 }
 std::pair<PGrad, PGrad> PointGradRules::sincos(const PGrad& a) {
   const auto [s, c] = PointRules::sincos(a.v);

@@ -106,6 +106,29 @@ TEST_F(BenchRenderCli, SceneDirIsUsed) {
             std::string::npos);
 }
 
+TEST_F(BenchRenderCli, AllRendersEverySceneOfTheDirectoryInNameOrder) {
+  fs::create_directories(tmp("scenes"));
+  fs::copy_file(kScenes + "/teardrop.toml", tmp("scenes/b.toml"));
+  fs::copy_file(kScenes + "/teardrop.toml", tmp("scenes/a.toml"));
+  std::ofstream(tmp("scenes/notes.txt")) << "not a scene\n";
+  const std::string json = tmp("b.json");
+  const Outcome r = run(quoted(kBin + "/iaa") + " bench render --all --scene-dir " +
+                        quoted(tmp("scenes")) + kSmall + " --json " + quoted(json));
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(json);
+  const nlohmann::json rows = nlohmann::json::parse(in);
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[0].at("scene"), "a");
+  EXPECT_EQ(rows[3].at("scene"), "b");
+  // --all and --scenes together are refused; an empty directory is one clear error.
+  EXPECT_NE(run(quoted(kBin + "/iaa") + " bench render --all --scenes a" + kSmall).status, 0);
+  fs::create_directories(tmp("empty"));
+  const Outcome e = run(quoted(kBin + "/iaa") + " bench render --all --scene-dir " +
+                        quoted(tmp("empty")) + kSmall);
+  EXPECT_EQ(e.status, 1);
+  EXPECT_NE(e.err.find("no .toml scene"), std::string::npos) << e.err;
+}
+
 TEST_F(BenchRenderCli, BadSceneDirIsOneClearError) {
   const std::string json = tmp("b.json");
   const Outcome r = run(quoted(kBin + "/iaa") + " bench render --scene-dir " + quoted(tmp("nope")) +

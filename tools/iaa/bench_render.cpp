@@ -1,9 +1,11 @@
-// `iaa bench render`: IAA against the point-sampled baselines on the paper's five scenes, in one
-// process: time (median of runs), interval evaluations and leaves per pixel, the iaa/adaptive
-// ratios, and quality against a `grid 16` reference (RMSE, missed and spurious pixels).
+// `iaa bench render`: IAA against the point-sampled baselines on the paper's five scenes (or every
+// scene of the directory with --all), in one process: time (median of runs), interval evaluations
+// and leaves per pixel, the iaa/adaptive ratios, and quality against a `grid 16` reference (RMSE,
+// missed and spurious pixels).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iterator>
 #include <memory>
 
@@ -23,6 +25,7 @@ namespace {
 
 struct BenchRenderOptions {
   std::vector<std::string> scenes{"teardrop", "chubs", "tritrumpet", "twist", "blobby"};
+  bool all = false;  ///< every NAME.toml of the scene directory instead of `scenes`
   std::string dir;
   int size = 500;
   int runs = 3;
@@ -190,15 +193,27 @@ void print_rows(const BenchRenderOptions& o, const std::string& name, const Scen
   std::fflush(stdout);
 }
 
+/// The names of every NAME.toml in `dir`, sorted (the same table whatever the directory order).
+std::vector<std::string> all_scene_names(const std::string& dir) {
+  std::vector<std::string> names;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.is_regular_file() && e.path().extension() == ".toml") names.push_back(e.path().stem());
+  }
+  std::sort(names.begin(), names.end());
+  if (names.empty()) throw SettingError("--all: no .toml scene in " + dir);
+  return names;
+}
+
 void run(const BenchRenderOptions& o) {
   check_options(o);
   const std::string dir = find_scene_dir(o.dir);
+  const std::vector<std::string> scenes = o.all ? all_scene_names(dir) : o.scenes;
   Exec exec;
   exec.threads = o.threads;
   nlohmann::json out = nlohmann::json::array();
   print_header(o, exec.resolved_threads());
   // Each scene's rows are printed as soon as they are measured: a long run shows its progress.
-  for (const std::string& name : o.scenes) {
+  for (const std::string& name : scenes) {
     const Scene scene = load_bench_scene(o, dir, name);
     print_rows(o, name, measure_scene(o, scene, exec), exec.resolved_threads(), &out);
   }
@@ -212,8 +227,11 @@ void run(const BenchRenderOptions& o) {
 
 void setup(CLI::App& app) {
   auto o = std::make_shared<BenchRenderOptions>();
-  app.add_option("--scenes", o->scenes,
-                 "scene names: NAME.toml in the scene directory (default: the paper's five)");
+  CLI::Option* scenes =
+      app.add_option("--scenes", o->scenes,
+                     "scene names: NAME.toml in the scene directory (default: the paper's five)");
+  app.add_flag("--all", o->all, "every scene of the scene directory (NAME.toml), in name order")
+      ->excludes(scenes);
   add_scene_dir_option(app, &o->dir);
   app.add_option("--size", o->size, "image edge in pixels (default 500)");
   app.add_option(
@@ -227,6 +245,7 @@ void setup(CLI::App& app) {
   app.footer(
       "Examples:\n"
       "  iaa bench render\n"
+      "  iaa bench render --all --runs 5 --json all.json\n"
       "  iaa bench render --scenes teardrop --size 250 --runs 5 --json bench.json\n"
       "  iaa bench render --scene-dir my/scenes --scenes a b --size 100\n"
       "  iaa bench render --set render.depth_tolerance=2 --set render.estimator_threshold=0.3");

@@ -1,0 +1,192 @@
+// Point kernels of sin, cos and exp with a proved error bound, for the interval rules of
+// interval.cpp (one argument reduction and a polynomial per endpoint, no libm call, no switch of
+// the rounding mode) and for point evaluation.
+//
+// Each kernel returns a double v with |v - f(x)| <= kRelErr * |v| + abs_err, whatever the rounding
+// mode of the thread (an operation rounded in any IEEE mode is within 2^-52 of its exact result,
+// relatively: the bounds below count every operation that way). The interval rules widen v by
+// that bound (interval.cpp). The derivation is written beside each kernel;
+// tests/core/elementary_mpfr_test.cpp measures the error against MPFR on random and hard
+// arguments and checks that it stays within half the bound.
+//
+// Polynomials are Taylor polynomials: their remainder is bounded by the next term (Lagrange), so
+// the approximation error needs no minimax certificate. Coefficients are 1/n! rounded to nearest
+// (hex literals: -frounding-math keeps GCC from folding 1.0/6.0 at compile time); each carries a
+// relative error below 2^-53.
+#pragma once
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+namespace iaa::elementary {
+
+/// Relative error bound of every kernel here: 8 * 2^-52 (the derivations give at most 6.5 *
+/// 2^-52; the margin keeps the bound valid for |v| instead of |f(x)|).
+inline constexpr double kRelErr = 0x1p-49;
+
+/// Largest |x| the trigonometric reduction handles (|k| < 2^20 below): as interval.cpp's limit,
+/// beyond which sin and cos give [-1, 1].
+inline constexpr double kTrigMax = 1e6;
+
+/// x = k pi/2 + r: the quadrant k and the reduced argument r, |r| <= 0.78540.
+struct Quadrant {
+  double r;
+  std::int64_t k;
+};
+
+/// Cody and Waite's reduction by pi/2 in three parts, for |x| <= kTrigMax (not checked).
+///
+/// k = trunc(x (2/pi) +- 1/2): y = x (2/pi) is within 2^-30 of the exact quotient for |x| <=
+/// 1e6, so |x 2/pi - k| <= 1/2 + 2^-29 and |r| <= pi/4 + 2^-28 < 0.78540 (the conversion truncates
+/// in every rounding mode). pi/2 = C1 + C2 + C3 + d, |d| < 2^-122: C1 and C2 have 33 significant
+/// bits, so k C1 and k C2 are exact for |k| < 2^20.
+/// - x - k C1 is exact: for k != 0, |x| >= 0.78 is a multiple of 2^-53, as is k C1 (a multiple
+///   of 2^-32); the difference is below 1 in magnitude, so it has at most 53 bits.
+/// - (x - k C1) - k C2 is a multiple of 2^-66: exact when below 2^-13, else rounded with relative
+///   error <= 2^-52.
+/// - k C3 has error <= 2^-101 (|k C3| < 2^-49), k d < 2^-102; the last subtraction rounds with
+///   relative error <= 2^-52.
+/// So |r_computed - r| <= 2^-51 |r| + 2^-99 for k != 0, and r = x exactly for k = 0.
+inline Quadrant reduce_half_pi(double x) {
+  constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
+  constexpr double kC1 = 0x1.921fb544p+0, kC2 = 0x1.0b4611a6p-34, kC3 = 0x1.3198a2e037073p-69;
+  const double y = x * kTwoOverPi;
+  const auto k = static_cast<std::int64_t>(y + std::copysign(0.5, y));
+  const double kd = static_cast<double>(k);
+  return {((x - kd * kC1) - kd * kC2) - kd * kC3, k};
+}
+
+/// Absolute error of the reduction as it reaches sin and cos (see reduce_half_pi), to add to
+/// kRelErr * |v| when k != 0: 2^-99 rounded far up.
+inline constexpr double kReducedAbsErr = 0x1p-96;
+
+/// sin r for |r| <= 0.786, as r + r (z P(z)), z = r^2, P(z) = (sin r - r) / r^3 to z^6 (the
+/// Taylor polynomial of sin to r^15).
+/// Bound (e = 2^-52): the remainder is <= |r|^17 / 17! <= 0.27 e |r|. P lies in [-1/6, -0.156]
+/// and its terms after -1/6 are below 0.031 of it, so P is computed within 1.7 e relatively
+/// (the coefficient 0.5 e, the last add e, the tail 0.1 e); z, z P and r (z P)
+/// add e each: 4.7 e on t = r z P, where |t| <= 0.103 |r| and |s| >= 0.897 |r|. With the last
+/// add, |s - sin r| <= (0.54 + 1 + 0.3) e |s|. The reduction's error dr moves sin r by at most
+/// |dr| <= 2^-51 |r| + 2^-99 <= 2.3 e |s| + 2^-99: 4.2 e |s| + 2^-99 in all. An underflow of z
+/// or t adds at most a few 2^-1074.
+inline double sin_poly(double r) {
+  // P = -1/3! + z T, the tail T by Estrin's scheme in w = z^2 (shorter dependency chains than
+  // Horner's). z T <= 0.0052 |P|, so T's own rounding errors (a few e) count for under 0.03 e.
+  const double z = r * r, w = z * z;
+  const double t = (0x1.1111111111111p-7 - z * 0x1.a01a01a01a01ap-13) +            // 1/5!, 1/7!
+                   w * (0x1.71de3a556c734p-19 - z * 0x1.ae64567f544e4p-26) +       // 1/9!, 1/11!
+                   (w * w) * (0x1.6124613a86d09p-33 - z * 0x1.ae7f3e733b81fp-41);  // 1/13!, 1/15!
+  const double p = -0x1.5555555555555p-3 + z * t;                                  // -1/3!
+  return r + r * (z * p);
+}
+
+/// cos r for |r| <= 0.786, as 1 + z Q(z), z = r^2, Q(z) = (cos r - 1) / r^2 to z^7 (the Taylor
+/// polynomial of cos to r^16).
+/// Bound (e = 2^-52): the remainder is <= r^18 / 18! <= 0.01 e. Q lies in [-1/2, -0.474] and is
+/// computed within 1.6 e (the last add e, the tail z T <= 0.026 |Q| 0.3 e); z Q, |z Q| <= 0.31,
+/// within 3.6 e, i.e. 1.1 e absolutely; with the last add and c >= 0.707, |c - cos r| <= (1.6 + 1 +
+/// 0.02) e |c|. The reduction's error dr moves cos r by at most |sin r| |dr| <= 0.71 (2^-51 0.786 +
+/// 2^-99) <= 1.6 e |c| + 2^-99: 4.3 e |c| + 2^-99 in all.
+inline double cos_poly(double r) {
+  // Q = -1/2 + z T, the tail T by Estrin's scheme as in sin_poly (z T <= 0.026 |Q|).
+  const double z = r * r, w = z * z;
+  const double t = (0x1.5555555555555p-5 - z * 0x1.6c16c16c16c17p-10) +              // 1/4!, 1/6!
+                   w * (0x1.a01a01a01a01ap-16 - z * 0x1.27e4fb7789f5cp-22) +         // 1/8!, 1/10!
+                   (w * w) * ((0x1.1eed8eff8d898p-29 - z * 0x1.93974a8c07c9dp-37) +  // 1/12!, 1/14!
+                              w * 0x1.ae7f3e733b81fp-45);                            // 1/16!
+  const double q = -0.5 + z * t;
+  return 1.0 + z * q;
+}
+
+/// sin x from the reduction x = k pi/2 + r and s = sin r, c = cos r: s, c, -s, -c for k = 0, 1,
+/// 2, 3 mod 4. cos x = sin(x + pi/2) is the same with k + 1.
+inline double sin_of(std::int64_t k, double s, double c) {
+  // Branch-free (the quadrant of an interval's end is unpredictable): select by a mask of the
+  // bits, then flip the sign bit for k = 2, 3 mod 4 (k & 3 is k mod 4 also for k < 0).
+  const std::uint64_t odd = 0 - static_cast<std::uint64_t>(k & 1);
+  const std::uint64_t bits =
+      (std::bit_cast<std::uint64_t>(c) & odd) | (std::bit_cast<std::uint64_t>(s) & ~odd);
+  return std::bit_cast<double>(bits ^ (static_cast<std::uint64_t>(k & 2) << 62));
+}
+
+/// Absolute error term of sin x and cos x from reduce_half_pi(x): kReducedAbsErr after a
+/// reduction, a few subnormals (underflow in the polynomials) when r = x.
+inline double trig_abs_err(const Quadrant& q) {
+  return q.k == 0 ? 0x1p-1070 : kReducedAbsErr;
+}
+
+/// Largest |x| of exp_kernel: exp(x) and every factor below are then normal doubles.
+inline constexpr double kExpMax = 708.0;
+
+/// 2^(j/32) rounded to nearest, j = 0 .. 31 (relative error <= 0.43 * 2^-52; the MPFR test
+/// checks each entry).
+inline constexpr double kExp2Table[32] = {
+    0x1.0000000000000p+0, 0x1.059b0d3158574p+0, 0x1.0b5586cf9890fp+0, 0x1.11301d0125b51p+0,
+    0x1.172b83c7d517bp+0, 0x1.1d4873168b9aap+0, 0x1.2387a6e756238p+0, 0x1.29e9df51fdee1p+0,
+    0x1.306fe0a31b715p+0, 0x1.371a7373aa9cbp+0, 0x1.3dea64c123422p+0, 0x1.44e086061892dp+0,
+    0x1.4bfdad5362a27p+0, 0x1.5342b569d4f82p+0, 0x1.5ab07dd485429p+0, 0x1.6247eb03a5585p+0,
+    0x1.6a09e667f3bcdp+0, 0x1.71f75e8ec5f74p+0, 0x1.7a11473eb0187p+0, 0x1.82589994cce13p+0,
+    0x1.8ace5422aa0dbp+0, 0x1.93737b0cdc5e5p+0, 0x1.9c49182a3f090p+0, 0x1.a5503b23e255dp+0,
+    0x1.ae89f995ad3adp+0, 0x1.b7f76f2fb5e47p+0, 0x1.c199bdd85529cp+0, 0x1.cb720dcef9069p+0,
+    0x1.d5818dcfba487p+0, 0x1.dfc97337b9b5fp+0, 0x1.ea4afa2a490dap+0, 0x1.f50765b6e4540p+0,
+};
+
+/// exp x for |x| <= kExpMax, with |v - exp x| <= kRelErr |v| (no absolute term).
+///
+/// x = k ln2/32 + r, k = trunc(x 32/ln2 +- 1/2), |r| <= ln2/64 + 2^-40 < 0.010832, and
+/// exp x = 2^(k >> 5) 2^((k & 31)/32) exp r. ln2/32 = L1 + L2 + d, |d| < 2^-97: L1 has 36
+/// significant bits, so k L1 is exact (|k| < 2^15); x - k L1 is exact (for k != 0, both are
+/// multiples of 2^-59 and the difference is below 2^-6); k L2 has error <= 2^-81, k d < 2^-82,
+/// and the last subtraction rounds with relative error <= e = 2^-52: |r_computed - r| <= e |r| +
+/// 2^-80, which moves exp r by a factor within 1 +- 0.011 e.
+/// exp r = 1 + (r + z H), z = r^2, H = (1/2 + r/6) + z ((1/24 + r/120) + z/720): the Taylor
+/// polynomial to r^6 (remainder <= e^0.011 r^7 / 7! <= 0.02 e). H (within 0.502 +- 0.002) is
+/// computed within 1.1 e; z H (<= 6e-5) adds under 0.001 e absolutely, r + z H (<= 0.011) 0.011 e,
+/// and the last add e |v|, v >= 0.989: 1.05 e. The table entry adds 0.43 e and the product by
+/// it e; the product by 2^(k >> 5) is exact. In all |v - exp x| <= 2.5 e |v|.
+inline double exp_kernel(double x) {
+  constexpr double k32OverLn2 = 0x1.71547652b82fep+5;
+  constexpr double kL1 = 0x1.62e42fefap-6, kL2 = 0x1.cf79abc9e3b3ap-45;
+  const double y = x * k32OverLn2;
+  const auto k = static_cast<std::int64_t>(y + std::copysign(0.5, y));
+  const double kd = static_cast<double>(k);
+  const double r = (x - kd * kL1) - kd * kL2;
+  const double z = r * r;
+  const double h = (0.5 + r * 0x1.5555555555555p-3) +                      // 1/2, 1/3!
+                   z * ((0x1.5555555555555p-5 + r * 0x1.1111111111111p-7)  // 1/4!, 1/5!
+                        + z * 0x1.6c16c16c16c17p-10);                      // 1/6!
+  const double e_r = 1.0 + (r + z * h);
+  // 2^(k >> 5) (an arithmetic shift: floor(k / 32)) is a normal double for |x| <= kExpMax.
+  const double scale = std::bit_cast<double>(static_cast<std::uint64_t>((k >> 5) + 1023) << 52);
+  return (scale * kExp2Table[k & 31]) * e_r;
+}
+
+// Point values (the kernels without widening; libm beyond their ranges and for NaN).
+
+inline double sin(double x) {
+  if (!(std::fabs(x) <= kTrigMax)) return std::sin(x);
+  const Quadrant q = reduce_half_pi(x);
+  return (q.k & 1) ? sin_of(q.k, 0.0, cos_poly(q.r)) : sin_of(q.k, sin_poly(q.r), 0.0);
+}
+inline double cos(double x) {
+  if (!(std::fabs(x) <= kTrigMax)) return std::cos(x);
+  const Quadrant q = reduce_half_pi(x);
+  return (q.k & 1) ? sin_of(q.k + 1, sin_poly(q.r), 0.0) : sin_of(q.k + 1, 0.0, cos_poly(q.r));
+}
+inline void sincos(double x, double* s, double* c) {
+  if (!(std::fabs(x) <= kTrigMax)) {
+    *s = std::sin(x);
+    *c = std::cos(x);
+    return;
+  }
+  const Quadrant q = reduce_half_pi(x);
+  const double sr = sin_poly(q.r), cr = cos_poly(q.r);
+  *s = sin_of(q.k, sr, cr);
+  *c = sin_of(q.k + 1, sr, cr);
+}
+inline double exp(double x) {
+  return std::fabs(x) <= kExpMax ? exp_kernel(x) : std::exp(x);
+}
+
+}  // namespace iaa::elementary

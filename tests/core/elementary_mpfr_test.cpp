@@ -1,0 +1,241 @@
+// The kernels of core/elementary.h against MPFR: on random and hard arguments, in each of the four
+// rounding modes, |v - f(x)| must stay within half the bound the interval rules widen by
+// (kRelErr |v| + the absolute term), so that the bound holds with a margin of 2. Then the
+// interval rules built on them (sin, cos, sincos, exp of interval.h) must contain f at both ends
+// and take +-1 exactly where a multiple of pi/2 lies inside. IAA_MPFR_CASES sets the number of
+// arguments per kernel and mode (default 25 000: 10^5 per kernel).
+#include <gtest/gtest.h>
+#include <mpfr.h>
+
+#include <algorithm>
+#include <cfenv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <vector>
+
+#include "core/elementary.h"
+#include "core/interval.h"
+
+namespace iaa {
+namespace {
+
+namespace el = elementary;
+
+long cases() {
+  const char* s = std::getenv("IAA_MPFR_CASES");
+  return s ? std::max(1L, std::atol(s)) : 25000L;
+}
+
+using Fn = int (*)(mpfr_ptr, mpfr_srcptr, mpfr_rnd_t);
+
+/// |v - f(x)| over the allowed bound, computed with 256-bit MPFR (the error of that computation
+/// is far below the doubles' ulps).
+class Checker {
+ public:
+  Checker() { mpfr_inits2(256, x_, f_, d_, nullptr); }
+  ~Checker() { mpfr_clears(x_, f_, d_, nullptr); }
+  Checker(const Checker&) = delete;
+  Checker& operator=(const Checker&) = delete;
+
+  /// The error of v = kernel(x) as a fraction of the bound kRelErr |v| + abs.
+  double ratio(Fn f, double x, double v, double abs) {
+    mpfr_set_d(x_, x, MPFR_RNDN);
+    f(f_, x_, MPFR_RNDN);
+    mpfr_set_d(d_, v, MPFR_RNDN);
+    mpfr_sub(d_, d_, f_, MPFR_RNDN);
+    const double err = std::fabs(mpfr_get_d(d_, MPFR_RNDU));
+    const double bound = el::kRelErr * std::fabs(v) + abs;
+    return err / bound;
+  }
+  /// True when the double interval [lo, hi] contains f(x).
+  bool contains(Fn f, double x, double lo, double hi) {
+    mpfr_set_d(x_, x, MPFR_RNDN);
+    f(f_, x_, MPFR_RNDN);
+    return mpfr_cmp_d(f_, lo) >= 0 && mpfr_cmp_d(f_, hi) <= 0;
+  }
+
+ private:
+  mpfr_t x_, f_, d_;
+};
+
+constexpr int kModes[] = {FE_TONEAREST, FE_UPWARD, FE_DOWNWARD, FE_TOWARDZERO};
+
+/// Random arguments of a kernel: uniform over [-max, max], log-uniform magnitudes from 2^-60 to
+/// max with either sign, and `hard` ones given by the caller.
+std::vector<double> arguments(std::mt19937_64& rng, double max, const std::vector<double>& hard) {
+  std::vector<double> xs = hard;
+  std::uniform_real_distribution<double> uni(-max, max), expo(-60.0, std::log2(max));
+  const long n = cases();
+  while (static_cast<long>(xs.size()) < n) {
+    xs.push_back(uni(rng));
+    const double m = std::exp2(expo(rng));
+    xs.push_back(rng() & 1 ? m : -m);
+  }
+  xs.resize(static_cast<std::size_t>(std::max<long>(n, static_cast<long>(hard.size()))));
+  return xs;
+}
+
+/// Doubles nearest to multiples k pi/2 (up to the reduction's limit) and a few ulps around them:
+/// where the reduced argument cancels most, and where the quadrant changes.
+std::vector<double> near_half_pi_multiples(std::mt19937_64& rng) {
+  std::vector<double> xs = {0.0,          -0.0,         0x1p-1074, -0x1p-1022, 0.7853981633974483,
+                            el::kTrigMax, -el::kTrigMax};
+  mpfr_t t;
+  mpfr_init2(t, 256);
+  std::uniform_int_distribution<long> kd(-636619, 636619);  // |k pi/2| <= 1e6
+  for (int i = 0; i < 2000; ++i) {
+    const long k = i < 200 ? i - 100 : kd(rng);
+    mpfr_const_pi(t, MPFR_RNDN);
+    mpfr_mul_si(t, t, k, MPFR_RNDN);
+    mpfr_div_2ui(t, t, 1, MPFR_RNDN);
+    double x = mpfr_get_d(t, MPFR_RNDN);
+    for (int s = 0; s < 3; ++s) x = std::nextafter(x, -HUGE_VAL);
+    for (int s = 0; s < 7; ++s, x = std::nextafter(x, HUGE_VAL)) xs.push_back(x);
+  }
+  mpfr_clear(t);
+  return xs;
+}
+
+std::vector<double> exp_hard() {
+  std::vector<double> xs = {0.0, -0.0, 0x1p-1074, -0x1p-60, el::kExpMax, -el::kExpMax};
+  for (int k = -32686; k <= 32686; k += 37) {
+    // Near k ln2/32 and (k + 1/2) ln2/32, where the reduction's k changes.
+    for (double h : {0.0, 0.5}) {
+      double x = (k + h) * 0.6931471805599453 / 32;
+      if (std::fabs(x) > el::kExpMax) continue;
+      for (int s = 0; s < 2; ++s) x = std::nextafter(x, -HUGE_VAL);
+      for (int s = 0; s < 5; ++s, x = std::nextafter(x, HUGE_VAL)) xs.push_back(x);
+    }
+  }
+  return xs;
+}
+
+/// Runs `kernel` on every argument in every rounding mode; returns the largest error ratio.
+template <class Kernel>
+double worst_ratio(Checker& ck, Fn f, const std::vector<double>& xs, Kernel kernel) {
+  double worst = 0;
+  for (int mode : kModes) {
+    std::fesetround(mode);
+    for (double x : xs) {
+      double v = 0, abs = 0;
+      kernel(x, &v, &abs);
+      std::fesetround(FE_TONEAREST);
+      const double r = ck.ratio(f, x, v, abs);
+      std::fesetround(mode);
+      EXPECT_LE(r, 0.5) << "x = " << x << " (" << std::hexfloat << x << std::defaultfloat
+                        << "), v = " << v << ", mode " << mode;
+      worst = std::max(worst, r);
+    }
+  }
+  std::fesetround(FE_TONEAREST);
+  return worst;
+}
+
+TEST(ElementaryMpfr, SinAndCosKernelsWithinHalfTheirBound) {
+  std::mt19937_64 rng(16);
+  Checker ck;
+  const std::vector<double> xs = arguments(rng, el::kTrigMax, near_half_pi_multiples(rng));
+  const double ws = worst_ratio(ck, mpfr_sin, xs, [](double x, double* v, double* abs) {
+    const el::Quadrant q = el::reduce_half_pi(x);
+    *v = el::sin_of(q.k, el::sin_poly(q.r), el::cos_poly(q.r));
+    *abs = el::trig_abs_err(q);
+  });
+  const double wc = worst_ratio(ck, mpfr_cos, xs, [](double x, double* v, double* abs) {
+    const el::Quadrant q = el::reduce_half_pi(x);
+    *v = el::sin_of(q.k + 1, el::sin_poly(q.r), el::cos_poly(q.r));
+    *abs = el::trig_abs_err(q);
+  });
+  std::printf("sin: worst error %.3f of the bound, cos: %.3f (%zu arguments, 4 modes)\n", ws, wc,
+              xs.size());
+}
+
+TEST(ElementaryMpfr, ExpKernelWithinHalfItsBound) {
+  std::mt19937_64 rng(17);
+  Checker ck;
+  const std::vector<double> xs = arguments(rng, el::kExpMax, exp_hard());
+  const double w = worst_ratio(ck, mpfr_exp, xs, [](double x, double* v, double* abs) {
+    *v = el::exp_kernel(x);
+    *abs = 0;
+  });
+  std::printf("exp: worst error %.3f of the bound (%zu arguments, 4 modes)\n", w, xs.size());
+}
+
+TEST(ElementaryMpfr, ExpTableIsRoundedToNearest) {
+  mpfr_t t;
+  mpfr_init2(t, 256);
+  for (int j = 0; j < 32; ++j) {
+    mpfr_set_si(t, j, MPFR_RNDN);
+    mpfr_div_2ui(t, t, 5, MPFR_RNDN);
+    mpfr_exp2(t, t, MPFR_RNDN);
+    EXPECT_EQ(el::kExp2Table[j], mpfr_get_d(t, MPFR_RNDN)) << j;
+  }
+  mpfr_clear(t);
+}
+
+TEST(ElementaryMpfr, PointValuesAreTheKernels) {
+  // Beyond the kernels' ranges the point functions are libm's; NaN stays NaN.
+  EXPECT_EQ(el::sin(1e7), std::sin(1e7));
+  EXPECT_EQ(el::exp(710.0), std::exp(710.0));
+  EXPECT_TRUE(std::isnan(el::sin(NAN)));
+  EXPECT_TRUE(std::isnan(el::exp(NAN)));
+  double s = 0, c = 0;
+  el::sincos(2.5, &s, &c);
+  EXPECT_EQ(s, el::sin(2.5));
+  EXPECT_EQ(c, el::cos(2.5));
+}
+
+/// The interval rules: random intervals (short ones near multiples of pi/2 among them) contain f
+/// at both ends and at their multiples of pi/2, where the bound must be exactly +-1.
+TEST(ElementaryMpfr, IntervalRulesContainTheEndsAndTheExtrema) {
+  std::mt19937_64 rng(18);
+  Checker ck;
+  const RoundingScope scope;
+  const std::vector<double> ends = near_half_pi_multiples(rng);
+  std::uniform_real_distribution<double> width(0.0, 3.0);
+  std::uniform_int_distribution<std::size_t> pick(0, ends.size() - 1);
+  const long n = cases();
+  for (long i = 0; i < n; ++i) {
+    const double a = ends[pick(rng)];
+    const double b = (i & 1) ? ends[pick(rng)] : a + (i & 2 ? width(rng) : 1e-9 * width(rng));
+    const Interval x(std::min(a, b), std::max(a, b));
+    Interval s, c;
+    sincos(x, &s, &c);
+    EXPECT_EQ(s, sin(x));
+    EXPECT_EQ(c, cos(x));
+    for (double e : {x.lo(), x.hi()}) {
+      ASSERT_TRUE(ck.contains(mpfr_sin, e, s.lo(), s.hi())) << x.lo() << " " << x.hi();
+      ASSERT_TRUE(ck.contains(mpfr_cos, e, c.lo(), c.hi())) << x.lo() << " " << x.hi();
+    }
+    if (x.mag() > el::kTrigMax || x.width() >= 6.3) continue;
+    // Every multiple m pi/2 inside x (decided with MPFR) puts +-1 in the results.
+    mpfr_t t;
+    mpfr_init2(t, 256);
+    const long k0 = static_cast<long>(std::floor(x.lo() / 1.5707963267948966)) - 1;
+    for (long m = k0; m <= k0 + 6; ++m) {
+      mpfr_const_pi(t, MPFR_RNDN);
+      mpfr_mul_si(t, t, m, MPFR_RNDN);
+      mpfr_div_2ui(t, t, 1, MPFR_RNDN);
+      if (mpfr_cmp_d(t, x.lo()) < 0 || mpfr_cmp_d(t, x.hi()) > 0) continue;
+      const long q = ((m % 4) + 4) % 4;
+      const double extremum[4] = {c.hi(), s.hi(), -c.lo(), -s.lo()};  // +-1 at q = 0 .. 3
+      EXPECT_EQ(extremum[q], 1.0) << "multiple " << m << " of pi/2";
+    }
+    mpfr_clear(t);
+  }
+  // exp: both ends inside, over the kernel's range and beyond it (libm there).
+  std::uniform_real_distribution<double> ex(-750.0, 750.0);
+  for (long i = 0; i < n; ++i) {
+    const double a = ex(rng), b = (i & 1) ? ex(rng) : a + 1e-6 * width(rng);
+    const Interval x(std::min(a, b), std::max(a, b));
+    const Interval e = exp(x);
+    for (double v : {x.lo(), x.hi()}) {
+      ASSERT_TRUE(ck.contains(mpfr_exp, v, e.lo(), e.hi())) << x.lo() << " " << x.hi();
+    }
+    EXPECT_GE(e.lo(), 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace iaa
