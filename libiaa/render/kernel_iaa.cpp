@@ -2,7 +2,6 @@
 // a Full beam whose estimator is within the threshold, or at max_level; each such leaf is shaded
 // once at a point of its surface and weighted by its area (docs/render.md, "How").
 #include <algorithm>
-#include <iterator>
 #include <utility>
 
 #include "render/kernel.h"
@@ -18,19 +17,8 @@ constexpr double kPartialShadeReach = 8.0;
 /// Depth tolerance of the central ray of an IAA part, in footprints of the part (its lateral
 /// width at the depth): where it is shaded, not whether it is covered.
 constexpr double kShadeTolerance = 1.0 / 64;
-/// The same for the sample rays of a Partial part. They only tell hit from miss, so a coarser
-/// tolerance would do; 1/4 was not measured yet (docs/render.md).
-constexpr double kSampleTolerance = 1.0 / 64;
-/// Share of a Partial part's area counted in its coverage when its central ray finds no surface
-/// at all (the conservative weight of the coverage AOV).
+/// Share of a Partial part's area shown as surface when its central ray finds no surface at all.
 constexpr double kPartialMissWeight = 0.25;
-/// Least share of a Partial part's area its colour is blended with: the part may hold surface,
-/// so it is never shown as pure background, whatever its sample rays found.
-constexpr double kPartialMinWeight = 0.125;
-/// Sample rays of a Partial part beside its central ray, at (+-1/4, +-1/4) of its side from the
-/// centre: with the central ray they estimate the share of the part the surface covers.
-constexpr double kSampleOffsets[4][2] = {
-    {-0.25, -0.25}, {0.25, -0.25}, {-0.25, 0.25}, {0.25, 0.25}};
 /// Point-value steps over [t_near, t_far] in which the first crossing of a Full part's central
 /// ray is looked for before regula falsi narrows it (full_root).
 constexpr int kRootMarch = 8;
@@ -186,17 +174,18 @@ class IaaPixel {
 
   /// Shades the leaf `s` and adds it to the pixel's sums.
   void add_leaf(const PixelRect& rect, const BeamSearch& s, Interval range, BeamTrace* t) {
-    Weights w;
+    double w = 1.0;
+    // Two statements: shade_beam() sets w, and the order in which a call's arguments are
+    // evaluated is unspecified.
     const Vec3 shaded = shade_beam(rect, s, range, t, &w);
-    const Vec3 c = w.color == 1.0 ? shaded : w.color * shaded + (1.0 - w.color) * background(ctx_);
+    const Vec3 c = w == 1.0 ? shaded : w * shaded + (1.0 - w) * background(ctx_);
     if (t) {
       t->color = c;
-      t->weight = w.coverage;
-      t->color_weight = w.color;
+      t->weight = w;
     }
     const double area = rect.area();
     color_ = color_ + area * c;
-    coverage_ += area * w.coverage;
+    coverage_ += area * w;
     ++leaves_;
     if (s.result == BeamResult::kFull) {
       any_full_ = true;
@@ -205,30 +194,18 @@ class IaaPixel {
     }
   }
 
-  /// The shares of a part's area shown as surface: `color` blends its shaded colour over the
-  /// background; `coverage` (>= color) is what the coverage AOV counts, conservatively.
-  struct Weights {
-    double color = 1.0, coverage = 1.0;
-  };
-
-  /// A point of the surface where a part is shaded: the hit of a ray of the part, of direction d
-  /// through (u, v) at depths t.
-  struct ShadePoint {
-    RayHit h;
-    double u = 0, v = 0;
-    Vec3 d;
-  };
-
-  /// Shades a beam part: at the exact hit of its central ray (or of one of its sample rays) when
-  /// there is one, else at the centre of the hit box with the mid-point normal of the interval
-  /// gradient. Sets the shares of the part shown as surface.
+  /// Shades a beam part: at the exact hit of its central ray when there is one, else at the
+  /// centre of the hit box with the mid-point normal of the interval gradient. Sets `weight` to
+  /// the share of the part shown as surface.
   Vec3 shade_beam(const PixelRect& rect, const BeamSearch& s, Interval range, BeamTrace* t,
-                  Weights* weights) {
-    const ShadePoint sp = shade_point(rect, s, range, weights);
+                  double* weight) {
+    const double uc = 0.5 * (rect.u0 + rect.u1), vc = 0.5 * (rect.v0 + rect.v1);
+    const Vec3 d = su_.frame.dir(uc, vc);
+    const RayHit h = central_hit(rect, s, range, d, weight);
     Vec3 p, g;
-    if (sp.h.hit) {
-      p = su_.frame.eye + sp.h.t.mid() * sp.d;
-      g = hit_gradient(ctx_, p, sp.u, sp.v, sp.h.t);
+    if (h.hit) {
+      p = su_.frame.eye + h.t.mid() * d;
+      g = hit_gradient(ctx_, p, uc, vc, h.t);
     } else {
       p = {s.hit_box.x.mid(), s.hit_box.y.mid(), s.hit_box.z.mid()};
       g = interval_mid_gradient(ctx_, s.hit_box);
@@ -236,9 +213,9 @@ class IaaPixel {
     Vec3 n;
     // Leaves of this pixel within a pixel's footprint of each other share shadow searches.
     shadow_cache_.radius = su_.frame.scale * s.t_near;
-    const Vec3 c = shade(ctx_, p, g, sp.d, &n, &shadow_cache_);
+    const Vec3 c = shade(ctx_, p, g, d, &n, &shadow_cache_);
     if (t) {
-      t->center_ray_hit = sp.h.hit;
+      t->center_ray_hit = h.hit;
       t->point = p;
       t->normal = n;
       t->color = c;
@@ -246,40 +223,16 @@ class IaaPixel {
     return c;
   }
 
-  /// The ray whose hit shades a part, and the part's weights. A Full part is covered by every
-  /// ray (weight 1) and shaded at its central ray's hit. A Partial part at a silhouette or a thin
-  /// feature is covered in part: its central ray and four sample rays (kSampleOffsets) are
-  /// searched, and its colour is blended with the share of them that hit, never less than
-  /// kPartialMinWeight (it may hold surface: never pure background). Its coverage stays at
-  /// least the conservative weight (1 when the central ray hits, kPartialMissWeight when not).
-  ShadePoint shade_point(const PixelRect& rect, const BeamSearch& s, Interval range,
-                         Weights* weights) {
+  /// The hit of the central ray `d` of a part, which only chooses its shading point: the
+  /// certificate and the coverage do not depend on it. Full: the central ray certainly hits in
+  /// [t_near, t_far]. Partial: its hit is looked for only a few beam widths behind t_near (a hit
+  /// further back would be hidden by whatever the beam touches first), then behind that. A
+  /// Partial part whose central ray finds no surface is most likely a sliver of a silhouette or
+  /// of a thin feature: it is shown with weight kPartialMissWeight over the background, never
+  /// dropped (its coverage stays > 0).
+  RayHit central_hit(const PixelRect& rect, const BeamSearch& s, Interval range, const Vec3& d,
+                     double* weight) {
     const double uc = 0.5 * (rect.u0 + rect.u1), vc = 0.5 * (rect.v0 + rect.v1);
-    ShadePoint sp{central_hit(rect, s, range, uc, vc, kShadeTolerance), uc, vc,
-                  su_.frame.dir(uc, vc)};
-    *weights = Weights{};
-    if (s.result == BeamResult::kFull) return sp;
-    int hits = sp.h.hit ? 1 : 0;
-    for (const auto& o : kSampleOffsets) {
-      const double u = uc + o[0] * rect.width(), v = vc + o[1] * rect.height();
-      const RayHit h = central_hit(rect, s, range, u, v, kSampleTolerance);
-      if (!h.hit) continue;
-      ++hits;
-      if (!sp.h.hit) sp = ShadePoint{h, u, v, su_.frame.dir(u, v)};
-    }
-    const double share = hits / (1.0 + std::size(kSampleOffsets));
-    weights->color = std::max(kPartialMinWeight, share);
-    weights->coverage = std::max(weights->color, sp.h.hit ? 1.0 : kPartialMissWeight);
-    return sp;
-  }
-
-  /// The hit of the ray through (u, v) of a part, to within `tolerance` footprints of the part,
-  /// which only chooses its shading point and its colour's weight: the certificate does not depend
-  /// on it. Full: the central ray certainly hits in [t_near, t_far]. Partial: its hit is looked for
-  /// only a few beam widths behind t_near (a hit further back would be hidden by whatever the beam
-  /// touches first), then behind that.
-  RayHit central_hit(const PixelRect& rect, const BeamSearch& s, Interval range, double u, double v,
-                     double tolerance) {
     const double side = std::max(rect.width(), rect.height());
     const double reach = kPartialShadeReach * su_.frame.scale * side * s.t_near;
     const Interval sr(
@@ -287,20 +240,22 @@ class IaaPixel {
     // The shading point needs a fraction of the part's footprint, not the baselines' 1e-9: near
     // grazing rays a fine tolerance costs many evaluations for no visible difference.
     const double foot = su_.frame.scale * side * sr.lo();
-    const double shade_tol = std::max(su_.ray_tol, tolerance * foot);
+    const double shade_tol = std::max(su_.ray_tol, kShadeTolerance * foot);
+    *weight = 1.0;
     RayHit h;
     if (s.result == BeamResult::kFull) {
       h.hit = true;
-      h.t = Interval(full_root(ctx_, su_.frame.dir(u, v), s, shade_tol));
+      h.t = Interval(full_root(ctx_, d, s, shade_tol));
       return h;
     }
-    h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(u, v), sr, shade_tol,
+    h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, shade_tol,
                    su_.frame.scale * sr.hi() * 4, false);
     if (h.hit) return h;
     if (sr.hi() < range.hi()) {
-      h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(u, v), Interval(sr.hi(), range.hi()),
+      h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), Interval(sr.hi(), range.hi()),
                      shade_tol, su_.frame.scale * range.hi() * 4, false);
     }
+    if (!h.hit) *weight = kPartialMissWeight;
     return h;
   }
 

@@ -62,9 +62,8 @@ struct BeamTrace {
   // Shading (for kShadeFull / kShadeLeaf).
   bool center_ray_hit = false;  ///< the central ray's exact hit was found
   Vec3 point, normal;           ///< shading point and unit normal (facing the eye)
-  Vec3 color;                   ///< linear RGB of this part (surface blended by color_weight)
-  double weight = 1.0;          ///< share of the part's area counted as surface (coverage)
-  double color_weight = 1.0;    ///< share its colour is blended with (<= weight; sampled rays)
+  Vec3 color;                   ///< linear RGB of this part (surface blended by `weight`)
+  double weight = 1.0;          ///< share of the part's area shown as surface (coverage)
   std::uint64_t evals = 0;      ///< interval evaluations spent on this beam (search + shading)
 };
 
