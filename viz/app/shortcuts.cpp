@@ -111,9 +111,6 @@ void run_mesh(const ShortcutOptions& o) {
     Enclosure rest;
     rest.bounds = enc.bounds;
     rest.cells = mesh.unmeshed;
-    // enclosure_to_grid places corners on the grid of the deepest level in counts_by_depth;
-    // without it every cell was shifted by a negative amount and drawn nowhere near its place.
-    rest.counts_by_depth = enc.counts_by_depth;
     Layer u = enclosure_layer(rest, scene, ms.enclose, "unmeshed possible boxes");
     layers.push_back(std::move(u));
   }
