@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Configures and builds iaa in build/ (Release, Ninja). Used by demo.sh and test.sh.
+# Configures and builds iaa in build/ (Release, Ninja). Used by demo.sh, test.sh and soak.sh.
+# IAA_TARGETS="a b" builds only those targets.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${IAA_BUILD_DIR:-$root/build}"
@@ -7,4 +8,5 @@ jobs="${IAA_JOBS:-$(nproc)}"
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
 fi
-cmake --build "$build" -j "$jobs"
+# shellcheck disable=SC2086  # IAA_TARGETS is a list of words
+cmake --build "$build" -j "$jobs" ${IAA_TARGETS:+--target $IAA_TARGETS}

@@ -11,29 +11,18 @@ cd "$root"
 build="${IAA_BUILD_DIR:-$root/build}"
 (cd "$build" && ctest --output-on-failure -j "$(nproc)" --timeout 900)
 
-# The clang build (build-fuzz: sanitizers on, CGAL, OpenMesh and VTK off) when clang is available:
-# the iaa tool, whose commands that need a left-out library must fail cleanly
-# (tests/e2e/disabled_cli.sh), and a short libFuzzer run of the expression parser.
+# The clang build (build-fuzz: sanitizers on, CGAL, OpenMesh and VTK off; tools/build_fuzz.sh) when
+# clang is available: the iaa tool, whose commands that need a left-out library must fail cleanly
+# (tests/e2e/disabled_cli.sh), and short libFuzzer runs of the expression parser and of scene
+# files (tools/fuzz.sh).
 seconds="${IAA_FUZZ_SECONDS:-20}"
 if [ "${IAA_CLANG:-1}" != "0" ] && command -v clang++-14 >/dev/null 2>&1; then
-  fuzz_build="$root/build-fuzz"
-  if [ ! -f "$fuzz_build/CMakeCache.txt" ]; then
-    CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$fuzz_build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DIAA_FUZZ=ON -DIAA_WITH_CGAL=OFF -DIAA_WITH_OPENMESH=OFF -DIAA_WITH_VTK=OFF \
-      -DIAA_BUILD_BENCH=OFF >/dev/null
-  fi
   targets=(iaa_cli)
-  if [ "$seconds" != "0" ]; then targets+=(fuzz_parser); fi
-  cmake --build "$fuzz_build" -j "$(nproc)" --target "${targets[@]}"
-  bash "$root/tests/e2e/disabled_cli.sh" "$fuzz_build/bin" "$root"
+  if [ "$seconds" != "0" ]; then targets+=(fuzz_parser fuzz_scene); fi
+  "$root/tools/build_fuzz.sh" "${targets[@]}"
+  bash "$root/tests/e2e/disabled_cli.sh" "$root/build-fuzz/bin" "$root"
   if [ "$seconds" != "0" ]; then
-    corpus="$(mktemp -d)"
-    cp "$root"/tests/fuzz/corpus/* "$corpus"/
-    echo "fuzz: running the parser fuzzer for ${seconds}s"
-    "$fuzz_build/bin/fuzz_parser" -max_total_time="$seconds" -max_len=4096 -timeout=5 \
-      -print_final_stats=1 "$corpus" 2>"$fuzz_build/fuzz.log" || { tail -50 "$fuzz_build/fuzz.log"; exit 1; }
-    grep -E "stat::number_of_executed_units" "$fuzz_build/fuzz.log" || true
-    rm -rf "$corpus"
-    echo "fuzz: no crash"
+    "$root/tools/fuzz.sh" parser "$seconds"
+    "$root/tools/fuzz.sh" scene "$seconds"
   fi
 fi

@@ -129,12 +129,12 @@ std::uint64_t field_number(vtkUnstructuredGrid* g, const char* name, const std::
   return v;
 }
 
-/// The deepest depth that holds a cell: the grid on which corners are numbered.
+/// The deepest depth that holds a cell: the grid on which corners are numbered. Taken from the
+/// cells themselves (not counts_by_depth), so that any set of cells converts, such as the boxes a
+/// mesher left unmeshed.
 int deepest_depth(const Enclosure& enc) {
   int max_depth = 0;
-  for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
-    if (enc.counts_by_depth[d][0] + enc.counts_by_depth[d][1] > 0) max_depth = static_cast<int>(d);
-  }
+  for (const Cell& c : enc.cells) max_depth = std::max(max_depth, static_cast<int>(c.depth));
   return max_depth;
 }
 

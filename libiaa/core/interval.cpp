@@ -400,7 +400,8 @@ Interval pow_real(const Interval& x, const Interval& y, Domain* dom) {
       }
     }
   }
-  return Interval(std::max(0.0, widen_down(lo)), widen_up(hi));
+  // An overflow (std::pow = inf) is a finite real above DBL_MAX: the lower bound stays finite.
+  return Interval(std::clamp(widen_down(lo), 0.0, DBL_MAX), widen_up(hi));
 }
 
 }  // namespace iaa

@@ -304,6 +304,7 @@ class Parser {
         eat();
         return dag_.constant(t.number);
       case Tok::kLParen: {
+        if (const std::optional<double> v = signed_literal()) return dag_.constant(*v);
         Nest nest(this);
         eat();
         const NodeId e = expr();
@@ -316,6 +317,25 @@ class Parser {
       default:
         throw error("expected a number, a name or '(', found " + describe(t));
     }
+  }
+
+  /// At '(': a signed number in parentheses, "(-2.5)", read whole. It is a leaf, the way the
+  /// tape's text writes a negative constant, so it takes no level of nesting (the text of any
+  /// parsed tape then nests no deeper than the text it came from, tape.h).
+  std::optional<double> signed_literal() {
+    Lexer look = lex_;
+    Token sign{}, number{};
+    try {  // a bad token is reported where the ordinary path meets it
+      sign = look.next();
+      if (sign.kind != Tok::kMinus && sign.kind != Tok::kPlus) return std::nullopt;
+      number = look.next();
+      if (number.kind != Tok::kNumber || look.next().kind != Tok::kRParen) return std::nullopt;
+    } catch (const ParseError&) {
+      return std::nullopt;
+    }
+    lex_ = look;
+    eat();
+    return sign.kind == Tok::kMinus ? -number.number : number.number;
   }
 
   NodeId name(const Token& t) {

@@ -6,6 +6,7 @@
 //   power    := primary ('^' exponent)?        right-associative: x^2^3 = x^(2^3)
 //   exponent := primary ('^' exponent)?        no sign here: write x^(-3)
 //   primary  := number | name | name '(' expr (',' expr)* ')' | '(' expr ')'
+//             | '(' ('-' | '+') number ')'      a signed number: one leaf, as the tape writes it
 //
 // `^` binds tighter than unary minus (-x^2 is -(x^2)). An exponent that is an integer constant is
 // an exact integer power (x^3 is x*x*x, defined for negative x); a negative one is a reciprocal
@@ -28,8 +29,9 @@ namespace iaa {
 /// Named parameters of an expression (a scene's `r = 0.3`).
 using Params = std::map<std::string, double, std::less<>>;
 
-/// Deepest nesting of parentheses, calls and unary signs the parser accepts. The parser recurses
-/// once per level, so the limit keeps a hostile input from overflowing the stack.
+/// Deepest nesting of parentheses, calls, unary signs and exponents the parser accepts (a signed
+/// number in parentheses, `(-2.5)`, is a leaf and does not count). The parser recurses once per
+/// level, so the limit keeps a hostile input from overflowing the stack.
 inline constexpr int kMaxNesting = 200;
 
 /// Parses `text` into a DAG whose `root` is the expression. Throws ParseError with the line and

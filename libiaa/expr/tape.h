@@ -47,11 +47,15 @@ class Tape {
   /// True when the tape contains min or max (branches that intervals may prune).
   bool has_min_max() const { return has_min_max_; }
 
-  /// Expression text that parses back to this tape (shared subexpressions are written out, so
-  /// the full text of a tape with much sharing can be far longer than the tape). Left operands of
-  /// a chain of + - or of * / are written without parentheses (`x + y - z`). When the text is
-  /// longer than `max_chars`, the result is its first `max_chars` characters followed by "...".
-  /// Time and memory are linear in the length of the result plus the size of the tape.
+  /// Expression text that parses back to a tape of the same operations, which evaluates
+  /// identically (shared subexpressions are written out, so the full text of a tape with much
+  /// sharing can be far longer than the tape). The text nests as little as it can: parentheses
+  /// only where precedence needs them, chains of + - * / and the arguments of min/max written
+  /// flat, operands of + * min max ordered to keep chains flat (tape_text.cpp). So it nests no
+  /// deeper than any text of the same tape, and the parser's limit (kMaxNesting) is met by the
+  /// text of every tape parsed from text. When the text is longer than `max_chars`, the result
+  /// is its first `max_chars` characters followed by "...". Time and memory are linear in the
+  /// length of the result plus the size of the tape.
   std::string to_text(std::size_t max_chars = std::string::npos) const;
   /// A numbered listing, one instruction per line, for `iaa eval --tape`.
   std::string listing() const;

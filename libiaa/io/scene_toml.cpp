@@ -329,7 +329,9 @@ void read_render(const toml::table& rt, const std::string& source, RenderSetting
   st->grid_n = r.integer("grid", st->grid_n, 1, RenderSettings::kMaxGrid);
   st->max_level = r.integer("max_level", st->max_level, 0, RenderSettings::kMaxLevel);
   st->estimator_threshold = r.number("estimator_threshold", st->estimator_threshold, 0.0, 2.0);
-  st->depth_tolerance = r.number("depth_tolerance", st->depth_tolerance, 1e-6, 1e3);
+  st->depth_tolerance =
+      r.number("depth_tolerance", st->depth_tolerance, RenderSettings::kMinDepthTolerance,
+               RenderSettings::kMaxDepthTolerance);
   st->adaptive_threshold = r.number("adaptive_threshold", st->adaptive_threshold, 0.0, 1.0);
   st->shadows = r.boolean("shadows", st->shadows);
   r.check_unknown();

@@ -67,8 +67,8 @@ void RenderSettings::validate() const {
     throw SettingError("estimator_threshold must be in [0, 2], got " +
                        std::to_string(estimator_threshold));
   }
-  if (!(depth_tolerance >= 1e-6 && depth_tolerance <= 1e3)) {
-    throw SettingError("depth_tolerance must be in [1e-6, 1e3], got " +
+  if (!(depth_tolerance >= kMinDepthTolerance && depth_tolerance <= kMaxDepthTolerance)) {
+    throw SettingError("depth_tolerance must be in [0.001, 1000], got " +
                        std::to_string(depth_tolerance));
   }
   if (!(adaptive_threshold >= 0.0 && adaptive_threshold <= 1.0)) {

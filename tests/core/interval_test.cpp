@@ -186,6 +186,11 @@ TEST_F(IntervalTest, RealPower) {
   EXPECT_EQ(q.lo(), 0.0);
   EXPECT_GE(q.hi(), 32.0);
   EXPECT_TRUE(pow_real(Interval(-2, -1), Interval(0.5), &dom_).is_empty());
+  // 0.01^-400 = 1e800 is a real number above DBL_MAX: the lower bound stays finite (it was +inf,
+  // found by the MPFR check: [inf, inf] holds no real number).
+  const Interval big = pow_real(Interval(1e-3, 1e-2), Interval(-400), &dom_);
+  EXPECT_EQ(big.lo(), DBL_MAX);
+  EXPECT_EQ(big.hi(), kInf);
 }
 
 TEST_F(IntervalTest, AbsMinMax) {

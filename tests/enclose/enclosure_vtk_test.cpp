@@ -74,6 +74,27 @@ TEST(EnclosureVtk, ReadsBackIdentical) {
   fs::remove_all(fs::path(path).parent_path());
 }
 
+// A set of cells without counts_by_depth (the boxes a mesher left, as iaa-viz shows them) converts
+// with every point on its cell's corner: the corner grid is the deepest level of the cells.
+TEST(EnclosureVtk, CellsWithoutCountsConvert) {
+  const auto& s = test::test_surface("teardrop");
+  EncloseSettings set;
+  set.bounds = s.bounds;
+  set.depth = 5;
+  set.refine_possible = 3;
+  const Enclosure e = enclose(Tape::parse(s.expr), set);
+  Enclosure rest;
+  rest.bounds = e.bounds;
+  for (std::size_t i = 0; i < e.cells.size(); ++i) {
+    if (i % 5 == 0 || e.cells[i].depth > set.depth) rest.cells.push_back(e.cells[i]);
+  }
+  ASSERT_GT(rest.cells.back().depth, set.depth);
+  const std::string path = temp_path("rest.vtu");
+  viz::write_enclosure_vtu(path, rest, viz::EnclosureInfo{s.expr, set});
+  EXPECT_TRUE(viz::read_enclosure_vtu(path).points_match_boxes);
+  fs::remove_all(fs::path(path).parent_path());
+}
+
 TEST(EnclosureVtk, EmptyEnclosureRoundTrips) {
   const Tape tape = Tape::parse("x^2 + y^2 + z^2 + 1");
   EncloseSettings set;

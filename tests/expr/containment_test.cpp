@@ -20,6 +20,7 @@
 namespace iaa {
 namespace {
 
+using iaa::testing::property_scale;
 using iaa::testing::RandomExpr;
 
 std::string describe(const std::string& expr, const IBox& b, const Vec3& p) {
@@ -139,16 +140,11 @@ class Containment : public ::testing::Test {};
 using Modes = ::testing::Types<PointMode, IntervalMode, PointGradMode, IntervalGradMode>;
 TYPED_TEST_SUITE(Containment, Modes);
 
-// Scales the number of trials (IAA_PROPERTY_SCALE=20 for a long local soak; seeds change too).
-int scale() {
-  const char* s = std::getenv("IAA_PROPERTY_SCALE");
-  return s ? std::max(1, std::atoi(s)) : 1;
-}
-
 // 100 000 (expression, box) trials per evaluator, 6 sample points each.
 TYPED_TEST(Containment, PointValuesLieInIntervalValues) {
-  RandomExpr gen(0xC0FFEE + std::hash<std::string>{}(TypeParam::kName) + 977 * (scale() - 1));
-  const int kExprs = 5000 * scale();
+  RandomExpr gen(0xC0FFEE + std::hash<std::string>{}(TypeParam::kName) +
+                 977 * (property_scale() - 1));
+  const int kExprs = 5000 * property_scale();
   constexpr int kBoxesPerExpr = 20;
   std::vector<Vec3> pts(6);
   for (int e = 0; e < kExprs; ++e) {

@@ -1,7 +1,9 @@
 // Random expressions, boxes and endpoint-heavy sample points for the property tests.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <vector>
@@ -11,6 +13,13 @@
 #include "expr/tape.h"
 
 namespace iaa::testing {
+
+/// Scales the number of trials of the property suites: IAA_PROPERTY_SCALE (default 1;
+/// tools/soak.sh runs 30; the seeds change with it too).
+inline int property_scale() {
+  const char* s = std::getenv("IAA_PROPERTY_SCALE");
+  return s ? std::max(1, std::atoi(s)) : 1;
+}
 
 /// Generates random expression text over every operation of the language.
 class RandomExpr {

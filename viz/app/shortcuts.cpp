@@ -164,9 +164,6 @@ MeshView octree_view(const Scene& scene, const ShortcutOptions& o, const Enclosu
     Enclosure rest;
     rest.bounds = enc.bounds;
     rest.cells = mesh.unmeshed;
-    // enclosure_to_grid places corners on the grid of the deepest level in counts_by_depth;
-    // without it every cell was shifted by a negative amount and drawn nowhere near its place.
-    rest.counts_by_depth = enc.counts_by_depth;
     v.layers.push_back(enclosure_layer(rest, scene, ms.enclose, "unmeshed possible boxes"));
   }
   v.caption = "octree mesh: " + std::to_string(mesh.soup.triangles.size()) + " triangles";
