@@ -11,6 +11,7 @@
 #include <vtkSampleFunction.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -128,6 +129,18 @@ TriangleSoup mesh_vtk(const Tape& tape, const VtkMeshSettings& s, const Exec& ex
     for (auto& t : soup.triangles) std::swap(t[1], t[2]);
   }
   return soup;
+}
+
+void run_vtk_mesher(const app::meshing::Surface& s, const app::meshing::MeshParams& p,
+                    const Exec& exec, app::meshing::MeshRun& run) {
+  const auto t0 = std::chrono::steady_clock::now();
+  VtkMeshSettings vs;
+  vs.bounds = s.bounds;
+  vs.grid = p.grid > 0 ? p.grid : p.resolution;
+  run.soup = mesh_vtk(*s.tape, vs, exec);
+  run.seconds = app::meshing::seconds_since(t0);
+  run.details = {{"grid", vs.grid}};
+  run.summary = "vtk flying edges, grid " + std::to_string(vs.grid) + "^3";
 }
 
 }  // namespace iaa::viz

@@ -4,6 +4,7 @@
 // soup (no VTK or OpenMesh types in this header).
 #pragma once
 
+#include "app/meshing.h"
 #include "core/exec.h"
 #include "core/vec.h"
 #include "expr/tape.h"
@@ -22,5 +23,10 @@ struct VtkMeshSettings {
 /// Samples f on the grid (threads from exec; undefined points count as positive) and extracts
 /// f = 0 with flying edges. Triangles are oriented with normals towards increasing f.
 TriangleSoup mesh_vtk(const Tape& tape, const VtkMeshSettings& settings, const Exec& exec = {});
+
+/// mesh_vtk as the application layer's meshers run (app::meshing::VtkMesher): on a grid of
+/// `p.grid` (else `p.resolution`) cells per axis, timed, with its settings in the run's details.
+void run_vtk_mesher(const app::meshing::Surface& s, const app::meshing::MeshParams& p,
+                    const Exec& exec, app::meshing::MeshRun& run);
 
 }  // namespace iaa::viz

@@ -54,16 +54,6 @@ void print_header(const Options& o, const Exec& exec) {
               "lost px", "wrong px", "undecided", "notes");
 }
 
-/// The scene's surface as the meshers take it.
-meshing::Surface surface_of(const Scene& scene) {
-  meshing::Surface s;
-  s.name = scene.name;
-  s.expression = scene.expression;
-  s.tape = scene.tape;
-  s.bounds = scene.bounds;
-  return s;
-}
-
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -147,7 +137,7 @@ void bench_surface(const Options& o, const std::string& dir, const std::string& 
   const std::string size = std::to_string(o.image);
   const Scene scene =
       app::load_scene(dir + "/" + name + ".toml", {"image.width=" + size, "image.height=" + size});
-  const meshing::Surface s = surface_of(scene);
+  const meshing::Surface s = meshing::surface_of(scene);
   RenderSettings rs = scene.settings;
   rs.method = RenderMethod::kIaa;
   const Film film = o.no_compare ? Film{} : render(scene, rs, exec);
@@ -183,7 +173,8 @@ nlohmann::json cgal_scaling(const Options& o, const std::string& dir,
   if (o.no_scaling || exec.resolved_threads() <= 1 || o.surfaces.empty() ||
       std::find(methods.begin(), methods.end(), meshing::Method::kCgal) == methods.end())
     return scaling;
-  const meshing::Surface s = surface_of(app::load_scene(dir + "/" + o.surfaces.front() + ".toml"));
+  const meshing::Surface s =
+      meshing::surface_of(app::load_scene(dir + "/" + o.surfaces.front() + ".toml"));
   meshing::MeshParams p = o.p;
   p.resolution = std::max(8, o.p.resolution / 2);
   std::printf("cgal thread scaling (%s, resolution %d):", s.name.c_str(), p.resolution);

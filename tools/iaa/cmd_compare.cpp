@@ -4,6 +4,9 @@
 #include <cstdio>
 #include <memory>
 
+#include <nlohmann/json.hpp>
+
+#include "app/comparing.h"
 #include "app/files.h"
 #include "app/png.h"
 #include "app/progress_bar.h"
@@ -11,7 +14,6 @@
 #include "compare/compare.h"
 #include "core/error.h"
 #include "iaa/command.h"
-#include "iaa/mesh_common.h"
 #include "mesh/mesh_io.h"
 #include "mesh/mesh_raycast.h"
 #include "render/render.h"
@@ -59,8 +61,7 @@ void check_options(const CompareOptions& o) {
   if (!o.report.empty() && app::extension_of(o.report) != "json") {
     throw Error("--report: the report must be a .json file, got '" + o.report + "'");
   }
-  if (o.rays < 1 || o.rays > 16)
-    throw SettingError("--rays must be in 1..16, got " + std::to_string(o.rays));
+  app::check_rays(o.rays);
 }
 
 #if defined(IAA_HAVE_CGAL) && defined(IAA_HAVE_OPENMESH)
@@ -80,52 +81,19 @@ Inputs load(const CompareOptions& o) {
   return {std::move(scene), std::move(mesh)};
 }
 
-/// The IAA render, the mesh's ray cast of the same view, their per-pixel comparison and the time
-/// each took.
-struct Views {
-  Film film;
-  MeshView view;
-  Comparison cmp;
-  double t_render = 0;
-  double t_cast = 0;
-};
-
-Views cast_both(const CompareOptions& o, const Inputs& in) {
+/// The IAA render and the mesh's ray cast of the same view, under a progress bar.
+app::ComparedViews cast_both(const CompareOptions& o, const Inputs& in) {
   app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
-  RenderSettings rs = in.scene.settings;
-  rs.method = RenderMethod::kIaa;  // the certificates come from IAA
-  Views v;
-  const auto t0 = std::chrono::steady_clock::now();
-  v.film = render(in.scene, rs, exec);
-  v.t_render = meshing::seconds_since(t0);
-  const auto t1 = std::chrono::steady_clock::now();
-  v.view = view_mesh(in.mesh, in.scene, o.rays, exec);
-  v.t_cast = meshing::seconds_since(t1);
-  v.cmp = compare_with_film(v.film, v.view.any);
+  app::ComparedViews v = app::compare_views(in.scene, in.mesh, o.rays, exec);
   bar.finish();
   return v;
 }
 
-/// The diff picture (-o) as an 8-bit PNG.
-void write_diff_png(const std::string& path, const Views& v) {
-  const Film& film = v.film;
-  const std::vector<Rgb> pic = diff_picture(film, v.cmp);
-  app::Image8 img(film.width, film.height, 3);
-  for (int y = 0; y < film.height; ++y) {
-    for (int x = 0; x < film.width; ++x) {
-      const Rgb& c = pic[film.index(x, y)];
-      std::uint8_t* p = img.at(x, y);
-      p[0] = app::to_byte(c.r), p[1] = app::to_byte(c.g), p[2] = app::to_byte(c.b);
-    }
-  }
-  app::write_png(path, img);
-}
-
 /// The summary on stdout: the counts per verdict, the times and what was written.
-void print_summary(const CompareOptions& o, const Inputs& in, const Views& v) {
+void print_summary(const CompareOptions& o, const Inputs& in, const app::ComparedViews& v) {
   const CompareCounts& k = v.cmp.counts;
   std::printf("scene        %s (%dx%d), mesh %s: %zu triangles\n", in.scene.name.c_str(),
               v.film.width, v.film.height, o.mesh.c_str(), in.mesh.triangles.size());
@@ -144,39 +112,8 @@ void print_summary(const CompareOptions& o, const Inputs& in, const Views& v) {
 }
 
 /// The --report JSON: the summary's figures and where the lost and wrong pixels are.
-void write_report(const CompareOptions& o, const Inputs& in, const Views& v) {
-  const Film& film = v.film;
-  const CompareCounts& k = v.cmp.counts;
-  double cov = 0;
-  for (float c : v.view.coverage) cov += c;
-  nlohmann::json j = {{"scene", in.scene.name},
-                      {"mesh", o.mesh},
-                      {"width", film.width},
-                      {"height", film.height},
-                      {"triangles", in.mesh.triangles.size()},
-                      {"rays_per_pixel", o.rays * o.rays},
-                      {"pixels", k.pixels},
-                      {"lost", k.lost},
-                      {"wrong", k.wrong},
-                      {"both_surface", k.both_surface},
-                      {"both_empty", k.both_empty},
-                      {"uncertain_with_mesh", k.uncertain_mesh},
-                      {"uncertain_without_mesh", k.uncertain_empty},
-                      {"mesh_covered_area_pixels", cov},
-                      {"iaa_covered_area_pixels", film.stats.covered_area},
-                      {"seconds_render", v.t_render},
-                      {"seconds_mesh_cast", v.t_cast}};
-  // Where they are (up to 1000 each), to look at one with `iaa inspect --pixel X,Y`.
-  nlohmann::json lost = nlohmann::json::array(), wrong = nlohmann::json::array();
-  for (int y = 0; y < film.height; ++y) {
-    for (int x = 0; x < film.width; ++x) {
-      const PixelAgreement a = v.cmp.pixel[film.index(x, y)];
-      if (a == PixelAgreement::kLost && lost.size() < 1000) lost.push_back({x, y});
-      if (a == PixelAgreement::kWrong && wrong.size() < 1000) wrong.push_back({x, y});
-    }
-  }
-  j["lost_at"] = lost;
-  j["wrong_at"] = wrong;
+void write_report(const CompareOptions& o, const Inputs& in, const app::ComparedViews& v) {
+  const nlohmann::json j = app::compare_report_json(in.scene, o.mesh, in.mesh, o.rays, v);
   app::write_text_atomically(o.report, j.dump(2) + "\n");
   std::printf("report       %s\n", o.report.c_str());
 }
@@ -186,8 +123,8 @@ void run(const CompareOptions& o) {
   check_options(o);
 #if defined(IAA_HAVE_CGAL) && defined(IAA_HAVE_OPENMESH)
   const Inputs in = load(o);
-  const Views v = cast_both(o, in);
-  write_diff_png(o.output, v);
+  const app::ComparedViews v = cast_both(o, in);
+  app::write_png(o.output, app::diff_image(v));
   print_summary(o, in, v);
   if (!o.report.empty()) write_report(o, in, v);
 #endif

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/enclosing.h"
 #include "app/files.h"
 #include "app/progress_bar.h"
 #include "app/scene_loading.h"
@@ -28,16 +29,11 @@ struct EncloseOptions {
   std::string expr;
   std::string bounds;
   std::vector<std::string> params;
-  int depth = 7;
-  double cell_size = 0;
-  int refine_possible = 0;
-  std::uint64_t max_boxes = EncloseSettings{}.max_boxes;
+  app::OctreeOptions octree;
   std::string output;
   std::string report;
   int threads = 0;
   bool quiet = false;
-  bool depth_given = false;      ///< --depth appeared on the command line
-  bool cell_size_given = false;  ///< --cell-size appeared on the command line
 };
 
 /// The shortest text that reads back as exactly v.
@@ -49,13 +45,6 @@ std::string fmt(double v) {
   }
   return b;
 }
-/// Short form for messages.
-std::string brief(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
 /// Parses X0:X1,Y0:Y1,Z0:Z1 (command.h's parse_box); an empty range is an error too, since a box
 /// to enclose in must have volume.
 Box3 parse_bounds(const std::string& text) {
@@ -68,25 +57,6 @@ Box3 parse_bounds(const std::string& text) {
     }
   }
   return box;
-}
-
-/// The smallest depth whose cells are no larger than `size` along every axis.
-int depth_for_cell_size(const Box3& b, double size) {
-  if (!(size > 0) || !std::isfinite(size)) {
-    throw SettingError("--cell-size must be a positive number, got " + brief(size));
-  }
-  const Vec3 e = b.size();
-  const double edge = std::fmax(e.x, std::fmax(e.y, e.z));
-  int d = 1;
-  while (d <= EncloseSettings::kMaxDepth && std::ldexp(edge, -d) > size) ++d;
-  if (d > EncloseSettings::kMaxDepth) {
-    throw SettingError("--cell-size " + brief(size) + " needs more than depth " +
-                       std::to_string(EncloseSettings::kMaxDepth) +
-                       " (the limit) for a box edge of " + brief(edge) +
-                       "; the smallest cell size here is " +
-                       brief(std::ldexp(edge, -EncloseSettings::kMaxDepth)));
-  }
-  return d;
 }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -109,8 +79,7 @@ void check_options(const EncloseOptions& o) {
     throw Error(
         "--param is for --expr; change a scene's parameters with --set surface.params.NAME=VALUE");
   }
-  if (o.depth_given && o.cell_size_given)
-    throw Error("give either --depth or --cell-size, not both");
+  app::check_octree_options(o.octree);
   if (o.scene.empty() && o.bounds.empty()) {
     throw Error("--bounds X0:X1,Y0:Y1,Z0:Z1 is required with --expr");
   }
@@ -156,51 +125,6 @@ Surface load_surface(const EncloseOptions& o) {
   return surface;
 }
 
-/// The octree's settings from the options, validated; an error names the command-line option
-/// rather than the library's setting.
-EncloseSettings make_settings(const EncloseOptions& o, const Box3& bounds) {
-  EncloseSettings s;
-  s.bounds = bounds;
-  s.depth = o.cell_size_given ? depth_for_cell_size(s.bounds, o.cell_size) : o.depth;
-  s.refine_possible = o.refine_possible;
-  s.max_boxes = o.max_boxes;
-  try {
-    s.validate();
-  } catch (const SettingError& e) {
-    std::string m = e.what();
-    for (auto [from, to] :
-         {std::pair{"refine_possible", "--refine-possible"}, std::pair{"max_boxes", "--max-boxes"},
-          std::pair{"depth", "--depth"}, std::pair{"bounds", "--bounds"}}) {
-      if (m.rfind(from, 0) == 0) m = to + m.substr(std::string(from).size());
-    }
-    throw SettingError(m);
-  }
-  return s;
-}
-
-/// Runs the octree. Running out of boxes is the one failure a user meets in practice, so its
-/// message says which options produced it and which to change.
-Enclosure run_octree(const Tape& tape, const EncloseSettings& s, const Exec& exec) {
-  try {
-    return enclose(tape, s, exec);
-  } catch (const SettingError& e) {
-    std::string m = e.what();
-    if (m.rfind("max_boxes", 0) == 0) {
-      m = "--max-boxes " + std::to_string(s.max_boxes) +
-          " exceeded: the enclosure needs more boxes" + " at --depth " + std::to_string(s.depth) +
-          (s.refine_possible ? " --refine-possible " + std::to_string(s.refine_possible) : "") +
-          "; lower the depth or raise --max-boxes (no file was written)";
-    }
-    throw SettingError(m);
-  }
-}
-
-/// Wall-clock seconds of the two parts of the command.
-struct Times {
-  double enclose = 0;
-  double write = 0;
-};
-
 #ifdef IAA_HAVE_VIZ
 /// Writes the boxes to `path` atomically (in `exec`'s threads); returns the seconds it took.
 double write_vtu(const std::string& path, const Surface& surface, const EncloseSettings& s,
@@ -218,7 +142,7 @@ double write_vtu(const std::string& path, const Surface& surface, const EncloseS
 /// The summary on stdout: the surface, the settings, the boxes per class (and per depth when
 /// possible cells were refined), the evaluations, the time and what was written.
 void print_summary(const EncloseOptions& o, const Surface& surface, const EncloseSettings& s,
-                   const Enclosure& enc, const Times& t, int threads) {
+                   const Enclosure& enc, const app::EncloseTimes& t, int threads) {
   const Vec3 cell = s.bounds.size() / std::ldexp(1.0, s.depth);
   std::printf("expression   %s\n", surface.expression.c_str());
   std::printf("bounds       [%s, %s] x [%s, %s] x [%s, %s]\n", fmt(s.bounds.lo.x).c_str(),
@@ -258,28 +182,8 @@ void print_summary(const EncloseOptions& o, const Surface& surface, const Enclos
 
 /// The --report JSON: the same figures as the summary, with the counts of every depth.
 void write_report(const EncloseOptions& o, const Surface& surface, const EncloseSettings& s,
-                  const Enclosure& enc, const Times& t, int threads) {
-  nlohmann::json j;
-  j["expression"] = surface.expression;
-  j["bounds"] = {{s.bounds.lo.x, s.bounds.hi.x},
-                 {s.bounds.lo.y, s.bounds.hi.y},
-                 {s.bounds.lo.z, s.bounds.hi.z}};
-  j["settings"] = {
-      {"depth", s.depth}, {"refine_possible", s.refine_possible}, {"max_boxes", s.max_boxes}};
-  j["threads"] = threads;
-  j["boxes"] = enc.cells.size();
-  j["crossing"] = enc.count(CellClass::kCrossing);
-  j["possible"] = enc.count(CellClass::kPossible);
-  nlohmann::json by = nlohmann::json::array();
-  for (std::size_t d = 0; d < enc.counts_by_depth.size(); ++d) {
-    const auto& c = enc.counts_by_depth[d];
-    if (c[0] + c[1] > 0) by.push_back({{"depth", d}, {"crossing", c[0]}, {"possible", c[1]}});
-  }
-  j["by_depth"] = by;
-  j["evaluations"] = enc.evaluations;
-  j["corner_evaluations"] = enc.corner_evaluations;
-  j["expansion_signs"] = enc.expansion_signs;
-  j["time_s"] = {{"enclose", t.enclose}, {"write", t.write}};
+                  const Enclosure& enc, const app::EncloseTimes& t, int threads) {
+  nlohmann::json j = app::enclose_report_json(surface.expression, s, enc, t, threads);
   if (!o.output.empty()) j["output"] = o.output;
   app::write_text_atomically(o.report, j.dump(2) + "\n");
   std::printf("report       %s\n", o.report.c_str());
@@ -288,15 +192,15 @@ void write_report(const EncloseOptions& o, const Surface& surface, const Enclose
 void run(const EncloseOptions& o) {
   check_options(o);
   const Surface surface = load_surface(o);
-  const EncloseSettings s = make_settings(o, surface.bounds);
+  const EncloseSettings s = app::enclose_settings(surface.bounds, o.octree);
   // The bar lives until the end: the .vtu write reports to it as well.
   app::ProgressBar bar(o.quiet);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
-  Times t;
+  app::EncloseTimes t;
   const auto t0 = std::chrono::steady_clock::now();
-  const Enclosure enc = run_octree(*surface.tape, s, exec);
+  const Enclosure enc = app::run_enclose(*surface.tape, s, exec);
   t.enclose = seconds_since(t0);
 #ifdef IAA_HAVE_VIZ
   if (!o.output.empty()) t.write = write_vtu(o.output, surface, s, enc, exec, &bar);
@@ -316,17 +220,17 @@ void setup(CLI::App& app) {
                  "the box X0:X1,Y0:Y1,Z0:Z1 to enclose the surface in (default: the scene's)");
   app.add_option("-p,--param", o->params,
                  "a named parameter NAME=VALUE of the expression (repeatable)");
-  CLI::Option* depth = app.add_option("-d,--depth", o->depth,
+  CLI::Option* depth = app.add_option("-d,--depth", o->octree.depth,
                                       "leaf depth: cells are the bounds / 2^D per axis (1..21)")
                            ->capture_default_str();
   CLI::Option* cell_size =
-      app.add_option("--cell-size", o->cell_size,
+      app.add_option("--cell-size", o->octree.cell_size,
                      "choose the depth so that cells are at most this large (instead of --depth)");
   app.add_option(
-         "--refine-possible", o->refine_possible,
+         "--refine-possible", o->octree.refine_possible,
          "refine possible leaves up to K levels deeper (0..8), to certify or exclude thin features")
       ->capture_default_str();
-  app.add_option("--max-boxes", o->max_boxes,
+  app.add_option("--max-boxes", o->octree.max_boxes,
                  "fail (with no output) when more leaves than this are needed")
       ->capture_default_str();
   app.add_option("-o,--output", o->output,
@@ -346,8 +250,8 @@ void setup(CLI::App& app) {
       "  iaa enclose data/scenes/chubs.toml --cell-size 0.01 --report chubs.json -o chubs.vtu\n"
       "  iaa enclose --expr 'x^2 + y^2 + z^2 - r^2' -p r=0.5 --bounds -1:1,-1:1,-1:1 -d 5");
   app.callback([o, depth, cell_size] {
-    o->depth_given = depth->count() > 0;
-    o->cell_size_given = cell_size->count() > 0;
+    o->octree.depth_given = depth->count() > 0;
+    o->octree.cell_size_given = cell_size->count() > 0;
     run(*o);
   });
 }

@@ -4,12 +4,9 @@
 #include <cstdio>
 #include <sstream>
 
+#include "app/evaluation.h"
 #include "app/files.h"
 #include "core/error.h"
-#include "expr/eval_interval.h"
-#include "expr/eval_interval_grad.h"
-#include "expr/eval_point.h"
-#include "expr/eval_point_grad.h"
 #include "expr/tape.h"
 #include "iaa/command.h"
 
@@ -56,34 +53,23 @@ void run(const EvalOptions& o) {
   if (o.tape) std::printf("\n%s", tape.listing().c_str());
   if (!o.at.empty()) {
     const auto p = parse_triple(o.at, "--at");
-    PointEval pe(tape);
-    PointGradEval pg(tape);
-    const double v = pe.eval(p[0], p[1], p[2]);
-    const PGrad g = pg.eval({p[0], p[1], p[2]});
+    const app::PointValue v = app::evaluate_at(tape, {p[0], p[1], p[2]});
     std::printf("\nat (%s, %s, %s)\n", fmt(p[0]).c_str(), fmt(p[1]).c_str(), fmt(p[2]).c_str());
-    if (std::isfinite(v)) {
-      std::printf("  f       = %s\n", fmt(v).c_str());
-      std::printf("  grad f  = (%s, %s, %s)\n", fmt(g.g.x).c_str(), fmt(g.g.y).c_str(),
-                  fmt(g.g.z).c_str());
+    if (std::isfinite(v.f)) {
+      std::printf("  f       = %s\n", fmt(v.f).c_str());
+      std::printf("  grad f  = (%s, %s, %s)\n", fmt(v.grad.x).c_str(), fmt(v.grad.y).c_str(),
+                  fmt(v.grad.z).c_str());
     } else {
-      std::printf("  f       = undefined here (%s)\n", fmt(v).c_str());
+      std::printf("  f       = undefined here (%s)\n", fmt(v.f).c_str());
     }
   }
   if (!o.box.empty()) {
     const IBox box(parse_box(o.box, "--box"));
-    // Evaluate inside a rounding scope, print outside it: printf rounds in the current mode, and
-    // a lower bound printed upward would no longer be a lower bound.
-    Interval v;
-    IGrad g;
-    bool partial = false;
-    {
-      RoundingScope scope;
-      IntervalEval ie(tape);
-      IntervalGradEval ig(tape);
-      v = ie.eval(box);
-      partial = ie.partial_domain();
-      g = ig.eval(box);
-    }
+    // Evaluated inside a rounding scope, printed outside it (evaluation.h).
+    const app::BoxValue bv = app::evaluate_over(tape, box);
+    const Interval& v = bv.f;
+    const IGrad& g = bv.grad;
+    const bool partial = bv.partial;
     std::printf("\nover %s x %s x %s\n", fmt(box.x).c_str(), fmt(box.y).c_str(),
                 fmt(box.z).c_str());
     std::printf(

@@ -11,9 +11,6 @@
 #include "iaa/command.h"
 #include "iaa/mesh_common.h"
 #include "mesh/mesh_io.h"
-#ifdef IAA_HAVE_CGAL
-#include "mesh/self_intersections.h"
-#endif
 #ifdef IAA_HAVE_VIZ
 #include "viz/box_vtk.h"
 #endif
@@ -77,12 +74,6 @@ void print_certificate(const meshing::MeshRun& run) {
       d["distance_bound"]["surface_to_mesh"].get<double>());
 }
 
-void add_certificate(nlohmann::json& j, const meshing::MeshRun& run) {
-  j["topology_certified"] = run.uncertified.empty();
-  j["uncertified_cells"] = run.uncertified.size();
-  j["distance_bound"] = run.details["distance_bound"];
-}
-
 #ifdef IAA_HAVE_OPENMESH
 /// The output checks that need no surface: the --report name and --uncertified's use.
 void check_outputs(const MeshOptions& o, meshing::Method method) {
@@ -95,19 +86,8 @@ void check_outputs(const MeshOptions& o, meshing::Method method) {
 /// Fails, writing nothing, when the mesher produced no triangle, saying which cells or leaves may
 /// still hold surface.
 void check_found_surface(const meshing::MeshRun& run, meshing::Method method) {
-  if (!run.soup.triangles.empty()) return;
-  std::string why = "the " + std::string(meshing::method_label(method)) +
-                    " mesher found no surface (no sign change of f was seen)";
-  if (!run.uncertified.empty()) {
-    why += "; " + std::to_string(run.uncertified.size()) +
-           " uncertified cells may hold surface where f touches 0 without changing sign";
-  }
-  if (run.details.contains("unmeshed_possible_leaves") &&
-      run.details["unmeshed_possible_leaves"] > 0) {
-    why += "; " + run.details["unmeshed_possible_leaves"].dump() +
-           " possible leaves may hold surface where f touches 0 without changing sign";
-  }
-  throw Error(why + "; no file was written");
+  const std::string why = app::meshing::no_surface_reason(run, method);
+  if (!why.empty()) throw Error(why + "; no file was written");
 }
 
 /// Writes the mesh file and, with --uncertified, the boxes of the uncertified cells.
@@ -118,18 +98,14 @@ void write_files(const MeshOptions& o, MeshFormat format, const Mesh& mesh,
   if (!o.uncertified.empty()) write_uncertified(o.uncertified, run, surface);
 }
 
-/// The mesh's topology and fit; checked against the enclosure only for a --report of a mesher
-/// other than the certified one (which reports its own certificate instead), enclosing the
-/// surface here when the mesher did not.
+/// The mesh's topology and fit; checked against the enclosure only for a --report (and never for
+/// the certified mesher, which reports its own certificate instead).
 MeshReport analyze(const MeshOptions& o, meshing::Method method, const meshing::Surface& surface,
                    const TriangleSoup& soup, CoordinatePrecision precision, meshing::MeshRun& run,
                    const Exec& exec) {
-  std::optional<Enclosure> enc = std::move(run.enclosure);
-  if (!o.report.empty() && method != meshing::Method::kCertified) {
-    if (!enc) enc = enclose(*surface.tape, o.p.enclose_settings(surface.bounds), exec);
-    return analyze_mesh(soup, surface.tape.get(), &*enc, precision);
-  }
-  return analyze_mesh(soup, surface.tape.get(), nullptr, precision);
+  const EncloseSettings check = o.p.enclose_settings(surface.bounds);
+  return app::meshing::analyze_run(method, surface, soup, precision, run, exec,
+                                   o.report.empty() ? nullptr : &check);
 }
 
 /// The summary on stdout: the surface, the mesher, the mesh's topology and fit, the certificate
@@ -168,19 +144,8 @@ void print_summary(const MeshOptions& o, meshing::Method method, const meshing::
 void write_report(const MeshOptions& o, meshing::Method method, MeshFormat format,
                   const meshing::Surface& surface, const meshing::MeshRun& run,
                   const MeshReport& rep, const TriangleSoup& soup, std::size_t duplicated) {
-  nlohmann::json j = meshing::report_json(rep);
-  j["method"] = meshing::method_label(method);
-  j["surface"] = surface.expression;
-  j["seconds"] = run.seconds;
-  j["settings"] = run.details;
+  nlohmann::json j = app::meshing::mesh_report_json(method, surface, run, rep, soup, duplicated);
   j["mesh_file"] = o.output;
-  j["vertices_duplicated_on_write"] = duplicated;
-#ifdef IAA_HAVE_CGAL
-  j["self_intersections"] = count_self_intersections(soup);
-#else
-  j["self_intersections"] = nullptr;  // counted with CGAL, left out of this build
-#endif
-  if (method == meshing::Method::kCertified) add_certificate(j, run);
   j["mesh_file_coordinates"] = format == MeshFormat::kPly
                                    ? "float x y z, and exact double x_double y_double z_double"
                                    : "float x y z (rounded from the mesher's double)";

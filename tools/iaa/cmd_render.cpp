@@ -1,7 +1,5 @@
 // `iaa render`: renders a scene with IAA or a point-sampled baseline and writes the image, and on
 // request the per-pixel certificate, sample and coverage images and a JSON report.
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -11,6 +9,7 @@
 #include "app/files.h"
 #include "app/png.h"
 #include "app/progress_bar.h"
+#include "app/render_output.h"
 #include "app/scene_loading.h"
 #include "core/error.h"
 #include "iaa/command.h"
@@ -30,96 +29,6 @@ struct RenderOptions {
   std::string report;
   bool quiet = false;
 };
-
-// ---- AOV images -----------------------------------------------------------------------------
-
-/// The three certificate colours (and grey outside the window).
-void certificate_color(PixelCertificate c, std::uint8_t* p) {
-  static const std::uint8_t kColors[4][3] = {
-      {235, 235, 235},  // empty: light grey
-      {30, 150, 60},    // covered: green
-      {235, 110, 20},   // uncertain: orange
-      {128, 128, 128},  // not rendered
-  };
-  const auto& k = kColors[static_cast<int>(c)];
-  p[0] = k[0];
-  p[1] = k[1];
-  p[2] = k[2];
-}
-
-/// Heat map (black, red, yellow, white) of a count on a log scale up to the image's maximum.
-app::Image8 heat_map(const Film& f, const std::vector<std::uint32_t>& v) {
-  app::Image8 img(f.width, f.height, 3);
-  const std::uint32_t mx = v.empty() ? 0 : *std::max_element(v.begin(), v.end());
-  const double scale = mx > 0 ? 1.0 / std::log1p(double(mx)) : 0.0;
-  for (int y = 0; y < f.height; ++y) {
-    for (int x = 0; x < f.width; ++x) {
-      const double t = std::log1p(double(v[f.index(x, y)])) * scale;
-      std::uint8_t* p = img.at(x, y);
-      p[0] = static_cast<std::uint8_t>(std::lround(255 * std::clamp(3 * t, 0.0, 1.0)));
-      p[1] = static_cast<std::uint8_t>(std::lround(255 * std::clamp(3 * t - 1, 0.0, 1.0)));
-      p[2] = static_cast<std::uint8_t>(std::lround(255 * std::clamp(3 * t - 2, 0.0, 1.0)));
-    }
-  }
-  return img;
-}
-
-app::Image8 color_image(const Film& f) {
-  app::Image8 img(f.width, f.height, 3);
-  for (int y = 0; y < f.height; ++y) {
-    for (int x = 0; x < f.width; ++x) {
-      const Rgb& c = f.at(x, y);
-      std::uint8_t* p = img.at(x, y);
-      p[0] = app::to_byte(c.r);
-      p[1] = app::to_byte(c.g);
-      p[2] = app::to_byte(c.b);
-    }
-  }
-  return img;
-}
-
-nlohmann::json report_json(const Scene& scene, const Film& f, int threads) {
-  nlohmann::json j;
-  j["scene"] = scene.name;
-  j["width"] = f.width;
-  j["height"] = f.height;
-  j["window"] = {f.window.x0, f.window.y0, f.window.x1, f.window.y1};
-  j["settings"] = render_settings_json(f.settings);
-  j["threads"] = threads;
-  j["seconds"] = f.seconds;
-  const double px = f.stats.pixels ? double(f.stats.pixels) : 1.0;
-  j["pixels"] = {{"rendered", f.stats.pixels},
-                 {"certified_empty", f.stats.empty},
-                 {"certified_covered", f.stats.covered},
-                 {"uncertain", f.stats.uncertain}};
-  j["evaluations"] = {{"total", f.stats.evals},
-                      {"screen_blocks", f.stats.block_evals},
-                      {"pruned", f.stats.pruned_evals},
-                      {"per_pixel", double(f.stats.evals) / px}};
-  j["leaves"] = {{"total", f.stats.leaves}, {"per_pixel", double(f.stats.leaves) / px}};
-  j["covered_fraction"] = f.stats.covered_area / px;
-  return j;
-}
-
-/// The certificate, coverage, leaves and evaluations images, written into directory `dir`.
-void write_aovs(const Film& film, const std::string& dir) {
-  app::Image8 cert(film.width, film.height, 3);
-  app::Image8 cov(film.width, film.height, 3);
-  for (int y = 0; y < film.height; ++y) {
-    for (int x = 0; x < film.width; ++x) {
-      certificate_color(film.cert(x, y), cert.at(x, y));
-      const std::uint8_t c =
-          static_cast<std::uint8_t>(std::lround(255 * film.coverage[film.index(x, y)]));
-      std::uint8_t* p = cov.at(x, y);
-      p[0] = p[1] = p[2] = c;
-    }
-  }
-  const std::string d = dir + "/";
-  app::write_png(d + "certificate.png", cert);
-  app::write_png(d + "coverage.png", cov);
-  app::write_png(d + "leaves.png", heat_map(film, film.leaves));
-  app::write_png(d + "evals.png", heat_map(film, film.evals));
-}
 
 /// The summary on stdout: time, certificates, evaluations and what was written.
 void print_summary(const RenderOptions& o, const Scene& scene, const Film& film, int threads) {
@@ -162,9 +71,9 @@ void run(const RenderOptions& o) {
   exec.progress = &bar;
   const Film film = render(scene, st, exec);
 
-  app::write_png(o.out, color_image(film));
-  if (!o.aov.empty()) write_aovs(film, o.aov);
-  const nlohmann::json rep = report_json(scene, film, exec.resolved_threads());
+  app::write_png(o.out, app::color_image(film));
+  if (!o.aov.empty()) app::write_aovs(film, o.aov);
+  const nlohmann::json rep = app::render_report_json(scene, film, exec.resolved_threads());
   if (!o.report.empty()) app::write_text_atomically(o.report, rep.dump(2) + "\n");
   if (!o.quiet) print_summary(o, scene, film, exec.resolved_threads());
 }

@@ -115,7 +115,7 @@ nlohmann::json inspection_json(const Scene& scene, const std::string& path,
   j["file"] = path;
   j["image"] = {{"width", scene.width}, {"height", scene.height}};
   j["pixel"] = {tr.x, tr.y};
-  j["settings"] = render_settings_json(st);
+  j["settings"] = app::render_settings_json(st);
   j["result"] = result_json(r);
   j["beams"] = nlohmann::json::array();
   for (std::size_t i = 0; i < tr.beams.size(); ++i) {

@@ -1,31 +1,16 @@
 // The render flags that `iaa render`, `iaa inspect` and `iaa bench render` share: the options that
 // map to RenderSettings (method, subdivision levels, thresholds, depth tolerance, shadows, pixel
-// window) and the image size. A flag overrides the scene's [render] (or [image]) table only when
-// it is given; the scene's own values stay otherwise.
+// window) and the image size. What they mean and how they override a scene is the application
+// layer's (app/render_flags.h, shared with the Python module); this adds them to a command line.
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
-#include <string>
-#include <vector>
-
-#include "scene/settings.h"
+#include "app/render_flags.h"
 
 namespace iaa::cli {
 
-/// The render flags as given on the command line; unset values mark flags that were not given.
-struct RenderFlags {
-  /// Marks an integer option that was not given.
-  static constexpr int kUnset = -2147483647;
-
-  std::string method;
-  int max_level = -1;
-  double threshold = -1, depth_tol = -1, adaptive_threshold = -1;
-  int width = kUnset, height = kUnset;
-  std::string window;
-  bool no_shadows = false, shadows = false;
-};
+using app::RenderFlags;
 
 /// Flags a command may leave out of the group; the levels, thresholds and shadows are always in.
 /// `iaa bench render` chooses the methods and the image size itself and renders whole images.
@@ -37,16 +22,5 @@ enum RenderFlagParts : unsigned {
 
 /// Adds the render flags (those of `parts` and the ones always in) to a command or subcommand.
 void add_render_flags(CLI::App& app, RenderFlags* flags, unsigned parts);
-
-/// `sets` (the `--set KEY=VALUE` overrides) followed by --width and --height as overrides of
-/// image.width and image.height, so that the scene loader checks them like keys of the file.
-std::vector<std::string> with_image_size(const RenderFlags& flags, std::vector<std::string> sets);
-
-/// Overrides the settings (a scene's) with the flags that were given, then validates them.
-/// Throws iaa::Error naming the flag (SettingError for a value out of its range).
-void apply_render_flags(const RenderFlags& flags, RenderSettings* settings);
-
-/// The settings as the JSON reports of `iaa render` and `iaa inspect` write them.
-nlohmann::json render_settings_json(const RenderSettings& settings);
 
 }  // namespace iaa::cli
