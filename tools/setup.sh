@@ -10,6 +10,7 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libopenmesh-dev libvtk9-dev
   xvfb xauth libgl1-mesa-dri
   clang-14 libclang-rt-14-dev
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib python3-pil
 )
 
 missing=()
