@@ -300,26 +300,47 @@ bool face_ok(Evaluators& e, const Box3& b, int a, int side, FaceProof& proof) {
 /// each face that d crosses free of critical points of f, and each edge not along d monotone (or
 /// zero-free); faces that contain d, and edges along d, need no proof: f is monotone along d
 /// there. `strict` proves every face and edge, whatever the certificate.
-bool locally_certified(Evaluators& e, const Box3& b, const IGrad& c, bool strict) {
+/// What locally_certified found out about a cell's faces and edges, kept between its attempts
+/// (before and after Refiner::tighten): the proofs depend on the cell's box, not on its gradient
+/// enclosure, so a face proved or refuted once need not be evaluated again.
+struct CellProofs {
+  FaceProof face[3][2];
+  std::int8_t face_state[3][2] = {};  ///< 0 not tried, 1 proved, -1 refuted
+  std::int8_t edge_state[3][4] = {};
+};
+
+bool locally_certified(Evaluators& e, const Box3& b, const IGrad& c, bool strict,
+                       CellProofs& memo) {
   const int m = monotone(c);
   if (m == kNotMonotone) return false;
   if (m == kCone && !strict) return true;
   const int* d = m == kCone ? nullptr : kDirections[m];
-  FaceProof faces[3][2];
+  auto face = [&](int a, int side) {
+    std::int8_t& state = memo.face_state[a][side];
+    if (state == 0) state = face_ok(e, b, a, side, memo.face[a][side]) ? 1 : -1;
+    return state > 0;
+  };
   for (int a = 0; a < 3; ++a) {
     if (!strict && d[a] == 0) continue;  // d lies in faces normal to axis a
-    if (!face_ok(e, b, a, 0, faces[a][0]) || !face_ok(e, b, a, 1, faces[a][1])) return false;
+    if (!face(a, 0) || !face(a, 1)) return false;
   }
   for (int a = 0; a < 3; ++a) {
     const int u = (a + 1) % 3, v = (a + 2) % 3;
     if (!strict && d[u] == 0 && d[v] == 0) continue;  // edges along d
     for (int k = 0; k < 4; ++k) {
       // The edge lies in the faces normal to u and to v on its sides: their proofs may cover it.
-      if (faces[u][k & 1].covers(a) || faces[v][k >> 1 & 1].covers(a)) continue;
-      Box3 ed = b;
-      ed.lo[u] = ed.hi[u] = (k & 1) ? b.hi[u] : b.lo[u];
-      ed.lo[v] = ed.hi[v] = (k & 2) ? b.hi[v] : b.lo[v];
-      if (!edge_ok(e, ed, a)) return false;
+      const bool covered =
+          (memo.face_state[u][k & 1] > 0 && memo.face[u][k & 1].covers(a)) ||
+          (memo.face_state[v][k >> 1 & 1] > 0 && memo.face[v][k >> 1 & 1].covers(a));
+      if (covered) continue;
+      std::int8_t& state = memo.edge_state[a][k];
+      if (state == 0) {
+        Box3 ed = b;
+        ed.lo[u] = ed.hi[u] = (k & 1) ? b.hi[u] : b.lo[u];
+        ed.lo[v] = ed.hi[v] = (k & 2) ? b.hi[v] : b.lo[v];
+        state = edge_ok(e, ed, a) ? 1 : -1;
+      }
+      if (state < 0) return false;
     }
   }
   return true;
@@ -332,34 +353,40 @@ class Refiner {
       : grid_(g), settings_(s), count_(count) {}
 
   /// `parent`: the gradient enclosure of the cell's parent, if it has one without domain
-  /// trouble.
+  /// trouble; `own`: the cell's own, if its parent evaluated it (Children).
   void refine(Evaluators& e, const Index3& at, int depth, Leaves& out,
-              const IGrad* parent = nullptr) const {
+              const IGrad* parent = nullptr, const IGrad* own = nullptr) const {
     IGrad g;
     bool smooth = false;
-    if (const std::optional<Leaf> l = classify(e, at, depth, parent, g, smooth)) {
+    Children kids;
+    if (const std::optional<Leaf> l = classify(e, at, depth, parent, own, g, smooth, kids)) {
       return emit(e, out, *l);
     }
-    for (int k = 0; k < 8; ++k) {
-      refine(e, child(at, depth, k), depth + 1, out, smooth ? &g : nullptr);
+    for (std::size_t k = 0; k < 8; ++k) {
+      refine(e, child(at, depth, int(k)), depth + 1, out, smooth ? &g : nullptr,
+             kids.valid ? &kids.g[k] : nullptr);
     }
   }
 
   /// refine(), with the children of the first `levels` levels of splits refined in parallel (a
   /// scene of one root cell would use one thread otherwise); the same leaves in the same order.
   void refine_parallel(ThreadEvaluators& evals, const Index3& at, int depth, int levels,
-                       Leaves& out) const {
+                       Leaves& out, const IGrad* parent = nullptr,
+                       const IGrad* own = nullptr) const {
     Evaluators& e = *evals.local();
-    if (levels == 0) return refine(e, at, depth, out);
+    if (levels == 0) return refine(e, at, depth, out, parent, own);
     IGrad g;
     bool smooth = false;
-    if (const std::optional<Leaf> l = classify(e, at, depth, nullptr, g, smooth)) {
+    Children kids;
+    if (const std::optional<Leaf> l = classify(e, at, depth, parent, own, g, smooth, kids)) {
       return emit(e, out, *l);
     }
     std::array<Leaves, 8> parts;
     tbb::parallel_for(0, 8, [&](int k) {
       RoundingScope scope;
-      refine_parallel(evals, child(at, depth, k), depth + 1, levels - 1, parts[std::size_t(k)]);
+      const auto i = std::size_t(k);
+      refine_parallel(evals, child(at, depth, k), depth + 1, levels - 1, parts[i],
+                      smooth ? &g : nullptr, kids.valid ? &kids.g[i] : nullptr);
     });
     for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   }
@@ -381,11 +408,19 @@ class Refiner {
     return {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h};
   }
 
+  /// The gradient enclosures of a cell's 8 children (in child order), when classify evaluated
+  /// them to tighten the cell's own (valid: all of them, none with domain trouble).
+  struct Children {
+    bool valid = false;
+    std::array<IGrad, 8> g;
+  };
+
   /// The leaf that the cell is (empty, certified, or uncertified at the depth limit), or nothing
   /// when it must be split. `g` gets the cell's gradient enclosure when it was evaluated, and
-  /// `smooth` whether it is free of domain trouble.
+  /// `smooth` whether it is free of domain trouble; `kids` the children's gradient enclosures
+  /// when they were evaluated (tighten()), for the children to reuse.
   std::optional<Leaf> classify(Evaluators& e, const Index3& at, int depth, const IGrad* parent,
-                               IGrad& g, bool& smooth) const {
+                               const IGrad* own, IGrad& g, bool& smooth, Children& kids) const {
     const std::uint32_t s = grid_.size(depth);
     const Box3 b = grid_.box(at, s);
     ++e.evaluations;
@@ -404,29 +439,80 @@ class Refiner {
       fc = centre_value(e, IBox(b));
       if (fc) {
         const Interval wide = expand(IBox(b), *fc, parent->g);
-        if (zero_free(wide)) {
-          return Leaf{at, std::uint8_t(depth), Kind::kEmpty,
-                      wide.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)};
-        }
+        if (zero_free(wide)) return empty(at, depth, wide);
       }
     }
-    ++e.evaluations;
-    g = e.g.eval(IBox(b));
-    smooth = !e.g.partial_domain();
+    if (own) {
+      g = *own;  // evaluated by the parent, without domain trouble
+      smooth = true;
+    } else {
+      ++e.evaluations;
+      g = e.g.eval(IBox(b));
+      smooth = !e.g.partial_domain();
+    }
     if (smooth && defined) {
       const Interval mv =
           fc ? intersect(expand(IBox(b), *fc, g.g), g.v) : mean_value(e, IBox(b), g);
-      if (zero_free(mv))
-        return Leaf{at, std::uint8_t(depth), Kind::kEmpty,
-                    mv.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)};
+      if (zero_free(mv)) return empty(at, depth, mv);
     }
-    if (depth >= settings_.min_depth && smooth && locally_certified(e, b, g, settings_.strict)) {
+    CellProofs proofs;
+    if (depth >= settings_.min_depth && smooth &&
+        locally_certified(e, b, g, settings_.strict, proofs)) {
       return Leaf{at, std::uint8_t(depth), Kind::kCertified, 0};
     }
     if (depth == grid_.max_depth) {
       return Leaf{at, std::uint8_t(depth), Kind::kUncertified, 0};
     }
+    if (depth >= settings_.min_depth && smooth && defined && tighten(e, at, depth, g, kids)) {
+      if (zero_free(g.v)) return empty(at, depth, g.v);
+      if (locally_certified(e, b, g, settings_.strict, proofs)) {
+        return Leaf{at, std::uint8_t(depth), Kind::kCertified, 0};
+      }
+    }
     return std::nullopt;
+  }
+
+  static Leaf empty(const Index3& at, int depth, const Interval& v) {
+    return Leaf{at, std::uint8_t(depth), Kind::kEmpty,
+                v.lo() > 0.0 ? std::int8_t(1) : std::int8_t(-1)};
+  }
+
+  /// Before a cell that failed its certificate is split, its gradient enclosure is tightened to
+  /// the hull of its 8 children's (intersected with its own: both enclose every gradient in the
+  /// cell, and every point of the cell lies in a child). The natural interval extension
+  /// overestimates in proportion to the box's size, so this halves the overestimation; where the
+  /// surface is thin (a tube of radius 0.003 in cells of 0.002), the dependency problem of a
+  /// polynomial with cancellation, not the surface's own curvature, is what fails the cone and
+  /// direction tests, and the cell then certifies without the 8 leaves, their corners and their
+  /// extraction. When it still fails, the children reuse their enclosures, so the evaluations are
+  /// not wasted. False (nothing changed) where a child has domain trouble.
+  bool tighten(Evaluators& e, const Index3& at, int depth, IGrad& g, Children& kids) const {
+    const std::uint32_t h = grid_.size(depth) / 2;
+    IGrad hull_g;
+    for (std::size_t k = 0; k < 8; ++k) {
+      ++e.evaluations;
+      kids.g[k] = e.g.eval(IBox(grid_.box(child(at, depth, int(k)), h)));
+      if (e.g.partial_domain()) return false;
+      if (k == 0) {
+        hull_g = kids.g[0];
+        continue;
+      }
+      hull_g.v = hull(hull_g.v, kids.g[k].v);
+      for (std::size_t a = 0; a < 3; ++a) hull_g.g[a] = hull(hull_g.g[a], kids.g[k].g[a]);
+    }
+    kids.valid = true;
+    IGrad t;
+    t.v = intersect(g.v, hull_g.v);
+    bool disjoint = t.v.is_empty();
+    for (std::size_t a = 0; a < 3; ++a) {
+      t.g[a] = intersect(g.g[a], hull_g.g[a]);
+      disjoint = disjoint || t.g[a].is_empty();
+    }
+    // Two enclosures of the same values cannot be disjoint; should rounding ever make them so,
+    // the cell keeps its own.
+    if (disjoint) return false;
+    g = t;
+    return true;
   }
 
   void emit(Evaluators& e, Leaves& out, const Leaf& l) const {
