@@ -184,49 +184,133 @@ IGrad eval_flat(Evaluators& e, const Box3& b, int flat) {
 /// to prove it piece by piece (face_ok, edge_ok).
 constexpr int kProofSplits = 2;
 
+/// The pieces of a face or an edge that a proof left to be joined up: pieces of the finest split
+/// on which f has no zero but may have a critical point (a vanishing derivative along an edge)
+/// and that touch no side of the face (hold no end of the edge), and every piece found free of
+/// zeros, through which they may reach one. Closed boxes, flat along the axes the face or edge is
+/// flat along.
+struct ProofPieces {
+  static constexpr int kMax = 1 << (2 * 2 + 2);  // 4^kProofSplits pieces at most, with room
+  std::array<Box3, kMax> box;
+  std::array<bool, kMax> loose{};  ///< a piece that must reach the boundary
+  int n = 0;
+  void add(const Box3& b, bool is_loose) {
+    box[std::size_t(n)] = b;
+    loose[std::size_t(n)] = is_loose;
+    ++n;
+  }
+  bool any_loose() const {
+    for (int i = 0; i < n; ++i) {
+      if (loose[std::size_t(i)]) return true;
+    }
+    return false;
+  }
+  /// Every loose piece lies in one connected union of zero-free pieces with a piece that touches
+  /// `whole`'s boundary (a side of the face, an end of the edge; along axes where `whole` is
+  /// flat every piece is flat too and touches nothing new).
+  bool joined(const Box3& whole) const {
+    std::array<bool, kMax> reached{};
+    std::array<int, kMax> stack{};
+    int top = 0;
+    auto on_boundary = [&](const Box3& b) {
+      for (int a = 0; a < 3; ++a) {
+        if (whole.lo[a] == whole.hi[a]) continue;
+        if (b.lo[a] == whole.lo[a] || b.hi[a] == whole.hi[a]) return true;
+      }
+      return false;
+    };
+    auto touch = [](const Box3& p, const Box3& q) {
+      for (int a = 0; a < 3; ++a) {
+        if (p.lo[a] > q.hi[a] || q.lo[a] > p.hi[a]) return false;
+      }
+      return true;
+    };
+    for (int i = 0; i < n; ++i) {
+      if (on_boundary(box[std::size_t(i)]))
+        reached[std::size_t(i)] = true, stack[std::size_t(top++)] = i;
+    }
+    while (top > 0) {
+      const int i = stack[std::size_t(--top)];
+      for (int j = 0; j < n; ++j) {
+        if (!reached[std::size_t(j)] && touch(box[std::size_t(i)], box[std::size_t(j)])) {
+          reached[std::size_t(j)] = true;
+          stack[std::size_t(top++)] = j;
+        }
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      if (loose[std::size_t(i)] && !reached[std::size_t(i)]) return false;
+    }
+    return true;
+  }
+};
+
 /// No double crossing on this piece of an edge: f is strictly monotone along it, or has no zero
-/// on it and the piece holds an end of the edge (`ends`, bit 0 the lower end, bit 1 the upper): a
-/// double crossing surrounds a point where f's derivative along the edge vanishes, and the
-/// zero-free piece holding that point would lie between the two crossings, away from both ends.
-/// Strict monotonicity holds pointwise, so pieces that pass, covering the edge, prove it whole.
-bool edge_piece_ok(Evaluators& e, const Box3& piece, int axis, unsigned ends, int splits) {
-  const IGrad g = eval_flat(e, piece, 7 & ~(1 << axis));
+/// on it and the piece holds an end of the edge (`ends`, bit 0 the lower end, bit 1 the upper), or
+/// (loose, checked by ProofPieces::joined) has no zero and is joined to an end of the edge by
+/// zero-free pieces. A double crossing surrounds a point where f's derivative along the edge
+/// vanishes; the zero-free pieces joined to the piece holding that point would all lie between
+/// the two crossings, away from both ends. Strict monotonicity holds pointwise, so pieces that
+/// pass, covering the edge, prove it whole. False when a piece of the finest split is neither
+/// monotone nor zero-free.
+bool edge_pieces(Evaluators& e, const Box3& piece, int axis, unsigned ends, int splits,
+                 ProofPieces& zero_free_pieces, const IGrad* known = nullptr) {
+  const IGrad g = known ? *known : eval_flat(e, piece, 7 & ~(1 << axis));
   if (e.g.partial_domain()) return false;
-  if (!g.g[std::size_t(axis)].contains_zero() || (ends && zero_free(g.v))) return true;
-  if (splits == 0) return false;
+  const bool no_zero = zero_free(g.v);
+  if (no_zero) zero_free_pieces.add(piece, false);
+  if (!g.g[std::size_t(axis)].contains_zero() || (ends && no_zero)) return true;
+  if (splits == 0) {
+    if (!no_zero) return false;
+    zero_free_pieces.loose[std::size_t(zero_free_pieces.n - 1)] = true;
+    return true;
+  }
   const double mid = 0.5 * (piece.lo[axis] + piece.hi[axis]);
   Box3 lo = piece, hi = piece;
   lo.hi[axis] = hi.lo[axis] = mid;
-  return edge_piece_ok(e, lo, axis, ends & 1u, splits - 1) &&
-         edge_piece_ok(e, hi, axis, ends & 2u, splits - 1);
+  return edge_pieces(e, lo, axis, ends & 1u, splits - 1, zero_free_pieces) &&
+         edge_pieces(e, hi, axis, ends & 2u, splits - 1, zero_free_pieces);
 }
 
 /// f has no zero on the edge box, or is monotone along it: its derivative along `axis` keeps one
 /// sign. Weak monotonicity is accepted (a derivative interval [0, d] or [-d, 0]) because grid
 /// planes often are planes of symmetry, where the derivative vanishes at an edge's end; f - delta
 /// then has at most one zero on the edge for all but countably many delta (docs/mesh.md). Else
-/// the edge is proved in pieces (edge_piece_ok), each strictly monotone or zero-free at an end.
+/// the edge is proved in pieces (edge_pieces).
 bool edge_ok(Evaluators& e, const Box3& edge, int axis) {
   const IGrad g = eval_flat(e, edge, 7 & ~(1 << axis));
   if (e.g.partial_domain()) return false;
   const Interval& d = g.g[std::size_t(axis)];
   if (zero_free(g.v) || d.lo() >= 0.0 || d.hi() <= 0.0) return true;
-  return edge_piece_ok(e, edge, axis, 3u, kProofSplits);
+  ProofPieces pieces;
+  // The whole edge is the first piece, already evaluated.
+  if (!edge_pieces(e, edge, axis, 3u, kProofSplits, pieces, &g)) return false;
+  return !pieces.any_loose() || pieces.joined(edge);
 }
 
 /// No closed curve of the surface inside this piece of a face normal to axis a: f restricted to
 /// the face has no critical point on the piece (its tangential gradient never vanishes), or f has
 /// no zero on the piece and the piece touches the face's boundary (`sides`: bits 0, 1 the face's
-/// lower and upper side along the next axis, bits 2, 3 along the one after). A closed curve C in
-/// the face bounds a disc D in it, and f restricted to D has an extremum p inside; the piece
-/// holding p, were it zero-free, would lie inside D, which meets the face's boundary nowhere but on
-/// C. So pieces that pass, covering the face, leave no place for p.
-bool face_piece_ok(Evaluators& e, const Box3& piece, int a, unsigned sides, int splits) {
+/// lower and upper side along the next axis, bits 2, 3 along the one after), or (loose, checked by
+/// ProofPieces::joined) f has no zero on the piece and zero-free pieces join it to the face's
+/// boundary. A closed curve C in the face bounds a disc D in it, and f restricted to D has an
+/// extremum p inside; the zero-free pieces joined to the piece holding p form a connected set
+/// without zeros, so they stay inside D, which meets the face's boundary nowhere but on C. So
+/// pieces that pass, covering the face, leave no place for p. False when a piece of the finest
+/// split is neither free of critical points nor of zeros.
+bool face_pieces(Evaluators& e, const Box3& piece, int a, unsigned sides, int splits,
+                 ProofPieces& zero_free_pieces, const IGrad* known = nullptr) {
   const std::size_t u = std::size_t((a + 1) % 3), v = std::size_t((a + 2) % 3);
-  const IGrad g = eval_flat(e, piece, 1 << a);
+  const IGrad g = known ? *known : eval_flat(e, piece, 1 << a);
   if (e.g.partial_domain()) return false;
-  if ((square(g.g[u]) + square(g.g[v])).lo() > 0.0 || (sides && zero_free(g.v))) return true;
-  if (splits == 0) return false;
+  const bool no_zero = zero_free(g.v);
+  if (no_zero) zero_free_pieces.add(piece, false);
+  if ((square(g.g[u]) + square(g.g[v])).lo() > 0.0 || (sides && no_zero)) return true;
+  if (splits == 0) {
+    if (!no_zero) return false;
+    zero_free_pieces.loose[std::size_t(zero_free_pieces.n - 1)] = true;
+    return true;
+  }
   const double mu = 0.5 * (piece.lo[u] + piece.hi[u]), mv = 0.5 * (piece.lo[v] + piece.hi[v]);
   for (unsigned k = 0; k < 4; ++k) {
     Box3 q = piece;
@@ -234,7 +318,7 @@ bool face_piece_ok(Evaluators& e, const Box3& piece, int a, unsigned sides, int 
     (k & 2 ? q.lo[v] : q.hi[v]) = mv;
     // The quarter keeps the sides of the face on which it lies: its lower or upper one per axis.
     const unsigned kept = (k & 1 ? 2u : 1u) | (k & 2 ? 8u : 4u);
-    if (!face_piece_ok(e, q, a, sides & kept, splits - 1)) return false;
+    if (!face_pieces(e, q, a, sides & kept, splits - 1, zero_free_pieces)) return false;
   }
   return true;
 }
@@ -288,7 +372,10 @@ bool face_ok(Evaluators& e, const Box3& b, int a, int side, FaceProof& proof) {
   }
   const std::size_t u = std::size_t((a + 1) % 3), v = std::size_t((a + 2) % 3);
   if (proof.zero_free || (square(g.g[u]) + square(g.g[v])).lo() > 0.0) return true;
-  return face_piece_ok(e, f, a, 15u, kProofSplits);
+  ProofPieces pieces;
+  // The whole face is the first piece, already evaluated.
+  if (!face_pieces(e, f, a, 15u, kProofSplits, pieces, &g)) return false;
+  return !pieces.any_loose() || pieces.joined(f);
 }
 
 /// The local certificate of a cell (docs/mesh.md, "Certified meshing"): f strictly monotone over

@@ -160,6 +160,45 @@ TEST(CertifiedMesher, ThinSpikeIsMeshedNotLost) {
   EXPECT_EQ(c.report.nonmanifold_edges, 0u);
 }
 
+// Spikes and bubbles thinner than the cells, at random places: the features that corner signs
+// cannot see and that the face and edge proofs (pieces joined to the boundary through zero-free
+// pieces included) must never let pass. A spike z = h exp(-r^2/w) is monotone along z in every
+// cell; a bubble centred on a grid plane meets that plane in a small circle. Each must be meshed
+// whole, or its cells reported uncertified: never lost under a certified report.
+TEST(CertifiedMesher, RandomThinSpikesAndBubblesAreNeverLost) {
+  std::mt19937 rng(19);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Box3 box{{-0.25, -0.25, -0.05}, {0.25, 0.25, 0.45}};
+  for (int trial = 0; trial < 8; ++trial) {
+    const double cx = -0.1 + 0.2 * u(rng), cy = -0.1 + 0.2 * u(rng);
+    const double h = 0.1 + 0.25 * u(rng), w = 1e-6 * (1 + 9 * u(rng));
+    const std::string spike = "z - " + std::to_string(h) + "*exp(-((x-(" + std::to_string(cx) +
+                              "))^2 + (y-(" + std::to_string(cy) + "))^2)/" + std::to_string(w) +
+                              ")";
+    const Checked c = run(spike, box, 3, 0, 11);
+    double top = -1;
+    for (const Vec3& v : c.mesh.soup.vertices) top = std::fmax(top, v.z);
+    // Uncertified cells (at the tip, where the spike turns) are meshed too, never dropped.
+    EXPECT_GT(top, 0.9 * h) << spike << ": the spike's tip is lost";
+    EXPECT_EQ(c.report.components, 1u) << spike;
+  }
+  // Root cells of the cube [-1, 1]^3 at min depth 3 are 1/4 wide: grid planes at multiples of 1/4.
+  for (int trial = 0; trial < 8; ++trial) {
+    const double r = 0.002 + 0.008 * u(rng);
+    Vec3 c{-0.6 + 1.2 * u(rng), -0.6 + 1.2 * u(rng), -0.6 + 1.2 * u(rng)};
+    const int axis = trial % 3;
+    c[axis] = 0.25 * std::round(c[axis] / 0.25);
+    const std::string bubble = "(x-(" + std::to_string(c.x) + "))^2 + (y-(" + std::to_string(c.y) +
+                               "))^2 + (z-(" + std::to_string(c.z) + "))^2 - " +
+                               std::to_string(r * r);
+    const Checked m = run(bubble, kCube, 3, 0, 10);
+    if (m.mesh.stats.uncertified_leaves == 0) {
+      EXPECT_EQ(m.report.components, 1u) << bubble << ": the bubble is lost or split";
+      EXPECT_EQ(m.report.euler, 2) << bubble;
+    }
+  }
+}
+
 // Random unions (min) of disjoint spheres and tori, each torus's axis along x, y or z: the union
 // has one component per shape and Euler characteristic 2 per sphere, 0 per torus.
 TEST(CertifiedMesher, RandomUnionsOfSpheresAndToriHaveTheirTopology) {
