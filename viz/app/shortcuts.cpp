@@ -10,6 +10,7 @@
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
 
+#include "app/meshing.h"
 #include "app/progress_bar.h"
 #include "app/scene_loading.h"
 #include "core/error.h"
@@ -113,20 +114,16 @@ struct MeshView {
 
 /// The certified mesh (the default of `iaa mesh`) with its uncertified cells in red.
 MeshView certified_view(const Scene& scene, const ShortcutOptions& o, const Exec& exec) {
-  CertifiedMeshSettings cs;
-  cs.bounds = scene.bounds;
-  cs.max_depth = o.max_depth;
-  cs.min_depth = 0;
-  cs.validate();
-  if (o.resolution < 2 || o.resolution > 4096) {
-    throw Error("--resolution: must be in 2..4096, got " + std::to_string(o.resolution));
-  }
-  cs.min_depth = std::min(certified_depth_for_resolution(cs, o.resolution), cs.max_depth);
-  cs.validate();
-  const CertifiedMesh mesh = mesh_certified(*scene.tape, cs, exec);
+  // The same settings as `iaa mesh --resolution N --max-depth D` (app/meshing.h).
+  app::meshing::MeshParams params;
+  params.resolution = o.resolution;
+  params.max_depth = o.max_depth;
+  const app::meshing::MeshRun mesh = app::meshing::run_mesher(
+      app::meshing::Method::kCertified, app::meshing::surface_of(scene), params, exec, nullptr);
   std::printf("mesh: certified, %zu vertices, %zu triangles, %llu leaves, %zu uncertified cells\n",
               mesh.soup.vertices.size(), mesh.soup.triangles.size(),
-              static_cast<unsigned long long>(mesh.stats.leaves), mesh.uncertified.size());
+              static_cast<unsigned long long>(mesh.details.value("leaves", std::uint64_t{0})),
+              mesh.uncertified.size());
   MeshView v;
   if (!mesh.soup.empty()) v.layers.push_back(mesh_layer(mesh.soup));
   if (!mesh.uncertified.empty()) {
