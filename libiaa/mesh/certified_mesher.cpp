@@ -436,8 +436,9 @@ bool locally_certified(Evaluators& e, const Box3& b, const IGrad& c, bool strict
 /// Phase 1: refines one cell into leaves (depth-first order).
 class Refiner {
  public:
-  Refiner(const Grid& g, const CertifiedMeshSettings& s, std::atomic<std::uint64_t>& count)
-      : grid_(g), settings_(s), count_(count) {}
+  Refiner(const Grid& g, const CertifiedMeshSettings& s, std::atomic<std::uint64_t>& count,
+          const Progress* progress)
+      : grid_(g), settings_(s), count_(count), progress_(progress) {}
 
   /// `parent`: the gradient enclosure of the cell's parent, if it has one without domain
   /// trouble; `own`: the cell's own, if its parent evaluated it (Children).
@@ -478,8 +479,10 @@ class Refiner {
     for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   }
 
-  /// Adds the thread's pending leaves to the shared count; throws when it exceeds the limit.
+  /// Adds the thread's pending leaves to the shared count; throws when it exceeds the limit, or
+  /// when the run was cancelled (checked every 1024 leaves).
   void flush(Evaluators& e) const {
+    if (progress_ && progress_->cancelled()) throw Error("certified mesh: cancelled");
     const std::uint64_t n = e.pending_leaves;
     e.pending_leaves = 0;
     if (count_.fetch_add(n, std::memory_order_relaxed) + n > settings_.max_boxes) {
@@ -609,6 +612,7 @@ class Refiner {
   const Grid& grid_;
   const CertifiedMeshSettings& settings_;
   std::atomic<std::uint64_t>& count_;
+  const Progress* progress_;
 };
 
 /// Leaf corners in a hash table, with the sign of f there: +1 (f > 0), -1 (f <= 0, which is how a
@@ -1381,6 +1385,7 @@ void extract_all(const Grid& grid, const Leaves& leaves, const VertexTable& tabl
                  BigVector<CellOut>& outs, const std::vector<char>* todo = nullptr) {
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](auto range) {
+      if (exec.progress && exec.progress->cancelled()) throw Error("certified mesh: cancelled");
       RoundingScope scope;
       Extractor x(grid, table, s, *evals.local());
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
@@ -1691,7 +1696,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   const Grid grid = make_grid(settings);
   ThreadEvaluators evals([&] { return std::make_unique<Evaluators>(tape); });
   std::atomic<std::uint64_t> count{0};
-  const Refiner refiner(grid, settings, count);
+  const Refiner refiner(grid, settings, count, exec.progress);
   std::vector<std::pair<Index3, int>> roots;
   const std::uint32_t s = grid.size(0);
   for (std::uint32_t z = 0; z < (1u << grid.root_bits[2]); ++z) {

@@ -76,6 +76,7 @@ MeshView view_mesh(const TriangleSoup& mesh, const Scene& scene, int n, const Ex
   ProgressPhase phase(exec.progress, "compare: cast mesh", std::uint64_t(view.height));
   exec.run([&] {
     tbb::parallel_for(0, view.height, [&](int y) {
+      if (phase.cancelled()) throw Error("compare: cancelled");
       NearestScope nearest_here;  // TBB threads have their own FPU state
       for (int x = 0; x < view.width; ++x) {
         const std::size_t i = std::size_t(y) * std::size_t(view.width) + std::size_t(x);

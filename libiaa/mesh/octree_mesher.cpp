@@ -614,6 +614,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
       std::atomic<std::uint64_t> uncertain{0};
       std::atomic<std::uint64_t> evaluated{0};
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, np, 4096), [&](const auto& r) {
+        if (phase.cancelled()) throw Error("mesh: cancelled");
         IntervalEval ie(tape);
         std::vector<std::size_t> todo;  // points whose sign the enclosure did not prove
         std::vector<Vec3> pos;
@@ -676,6 +677,7 @@ OctreeMesh extract_mesh(const Tape& tape, const Enclosure& enc, const OctreeMesh
     ProgressPhase phase(exec.progress, "mesh: extract", n_leaves);
     exec.run([&] {
       tbb::parallel_for(std::size_t{0}, n_blocks, [&](std::size_t b) {
+        if (phase.cancelled()) throw Error("mesh: cancelled");
         Extractor ex(g, enc);
         const std::size_t end = std::min(n_leaves, (b + 1) * kChunk);
         for (std::size_t i = b * kChunk; i < end; ++i)

@@ -280,5 +280,16 @@ TEST(Compare, TeardropOctreeLosesFewerPixelsThanPeers) {
 
 #endif
 
+// Ctrl-C (Progress::cancel) reaches the mesh's ray cast: it stops with an error.
+TEST(Compare, CancelStopsTheMeshCastWithAnError) {
+  struct CancelAtStart : Progress {
+    void start(std::string_view, std::uint64_t) override { cancel(); }
+  } progress;
+  const SphereCase c;
+  Exec exec;
+  exec.progress = &progress;
+  EXPECT_THROW(view_mesh(c.mesh, c.scene, 1, exec), Error);
+}
+
 }  // namespace
 }  // namespace iaa

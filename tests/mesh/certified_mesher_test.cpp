@@ -333,5 +333,17 @@ TEST(CertifiedMesher, SurfacesThatNeverChangeSignStayPossible) {
   }
 }
 
+// Ctrl-C (Progress::cancel) reaches the refinement and the extraction, not only the rounds
+// between them: a cancelled run stops with an error.
+TEST(CertifiedMesher, CancelStopsWithAnError) {
+  struct CancelAtStart : Progress {
+    void start(std::string_view, std::uint64_t) override { cancel(); }
+  } progress;
+  const Tape tape = Tape::parse("x^2 + y^2 + z^2 - 0.64");
+  Exec exec;
+  exec.progress = &progress;
+  EXPECT_THROW(mesh_certified(tape, settings_for(kCube, 6), exec), Error);
+}
+
 }  // namespace
 }  // namespace iaa

@@ -203,5 +203,18 @@ TEST(OctreeMesher, SettingsAreValidated) {
   EXPECT_THROW(s.validate(), SettingError);
 }
 
+// Ctrl-C (Progress::cancel) reaches the octree mesher's phases: it stops with an error instead of
+// finishing the mesh.
+TEST(OctreeMesher, CancelStopsWithAnError) {
+  struct CancelAtStart : Progress {
+    void start(std::string_view, std::uint64_t) override { cancel(); }
+  } progress;
+  const Tape tape = Tape::parse("x^2 + y^2 + z^2 - 0.64");
+  const Enclosure enc = test::local_enclose(tape, kCube, 5, 0);
+  Exec exec;
+  exec.progress = &progress;
+  EXPECT_THROW(extract_mesh(tape, enc, settings_for(kCube), exec), Error);
+}
+
 }  // namespace
 }  // namespace iaa
