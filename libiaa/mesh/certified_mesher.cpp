@@ -110,9 +110,48 @@ struct Grid {
   }
 };
 
+/// What the whole-face evaluation of face_ok proved about the face's edges: f has no zero on the
+/// face, or is strictly monotone along axis k of the face (bit k).
+struct FaceProof {
+  bool tested = false;
+  bool zero_free = false;
+  unsigned monotone = 0;
+  /// The edges of this face along `axis` need no proof of their own.
+  bool covers(int axis) const { return tested && (zero_free || (monotone >> axis & 1u)); }
+};
+
+/// The face and edge proofs of locally_certified by the grid position of the face or edge, per
+/// thread. Up to four cells share an edge and two share a face, and a proof depends on the face
+/// or edge alone (its box, which the grid position fixes), so a neighbour's proof is taken as it
+/// is: the mesh and the certificates are the same with or without this cache, only the count of
+/// interval evaluations is lower. Direct-mapped: cells come depth-first, so neighbours follow
+/// each other closely.
+class ProofCache {
+ public:
+  struct Entry {
+    Key corner = ~Key{0};   ///< the lowest grid corner of the face or edge (never all ones)
+    std::uint8_t what = 0;  ///< depth | axis << 5 | (1 for an edge) << 7
+    std::int8_t ok = 0;     ///< 1 proved, -1 refuted
+    FaceProof proof;        ///< a face's
+  };
+  /// The slot where (corner, what) is or would go.
+  Entry& slot(Key corner, std::uint8_t what) {
+    const std::uint64_t h = (corner ^ (std::uint64_t(what) << 56)) * 0x9E3779B97F4A7C15ull;
+    return entries_[h >> (64 - kBits)];
+  }
+  static std::uint8_t what(int depth, int axis, bool edge) {
+    return std::uint8_t(depth | axis << 5 | int(edge) << 7);
+  }
+
+ private:
+  static constexpr int kBits = 12;
+  std::vector<Entry> entries_ = std::vector<Entry>(std::size_t{1} << kBits);
+};
+
 /// Per-thread evaluators.
 struct Evaluators {
   explicit Evaluators(const Tape& t) : f(t), g(t), p(t), pg(t) {}
+  ProofCache proofs;
   IntervalEval f;
   IntervalGradEval g;
   PointEval p;
@@ -350,16 +389,6 @@ int monotone(const IGrad& c) {
 
 /// f restricted to face (a, side) of the cell has no critical point (its tangential gradient
 /// never vanishes) or no zero, so no closed curve of the surface lies inside the face.
-/// What the whole-face evaluation of face_ok proved about the face's edges: f has no zero on the
-/// face, or is strictly monotone along axis k of the face (bit k).
-struct FaceProof {
-  bool tested = false;
-  bool zero_free = false;
-  unsigned monotone = 0;
-  /// The edges of this face along `axis` need no proof of their own.
-  bool covers(int axis) const { return tested && (zero_free || (monotone >> axis & 1u)); }
-};
-
 bool face_ok(Evaluators& e, const Box3& b, int a, int side, FaceProof& proof) {
   Box3 f = b;
   f.lo[a] = f.hi[a] = side ? b.hi[a] : b.lo[a];
@@ -396,15 +425,29 @@ struct CellProofs {
   std::int8_t edge_state[3][4] = {};
 };
 
-bool locally_certified(Evaluators& e, const Box3& b, const IGrad& c, bool strict,
-                       CellProofs& memo) {
+/// The cell is box `b`, at grid position `at` with edge `size` (in grid steps) at `depth`.
+bool locally_certified(Evaluators& e, const Box3& b, const Index3& at, std::uint32_t size,
+                       int depth, const IGrad& c, bool strict, CellProofs& memo) {
   const int m = monotone(c);
   if (m == kNotMonotone) return false;
   if (m == kCone && !strict) return true;
   const int* d = m == kCone ? nullptr : kDirections[m];
   auto face = [&](int a, int side) {
     std::int8_t& state = memo.face_state[a][side];
-    if (state == 0) state = face_ok(e, b, a, side, memo.face[a][side]) ? 1 : -1;
+    if (state == 0) {
+      Index3 corner = at;
+      corner[std::size_t(a)] += side ? size : 0;
+      const Key key = make_key(corner);
+      const std::uint8_t what = ProofCache::what(depth, a, false);
+      ProofCache::Entry& known = e.proofs.slot(key, what);
+      if (known.corner == key && known.what == what) {
+        state = known.ok;
+        memo.face[a][side] = known.proof;
+      } else {
+        state = face_ok(e, b, a, side, memo.face[a][side]) ? 1 : -1;
+        known = {key, what, state, memo.face[a][side]};
+      }
+    }
     return state > 0;
   };
   for (int a = 0; a < 3; ++a) {
@@ -422,10 +465,21 @@ bool locally_certified(Evaluators& e, const Box3& b, const IGrad& c, bool strict
       if (covered) continue;
       std::int8_t& state = memo.edge_state[a][k];
       if (state == 0) {
-        Box3 ed = b;
-        ed.lo[u] = ed.hi[u] = (k & 1) ? b.hi[u] : b.lo[u];
-        ed.lo[v] = ed.hi[v] = (k & 2) ? b.hi[v] : b.lo[v];
-        state = edge_ok(e, ed, a) ? 1 : -1;
+        Index3 corner = at;
+        corner[std::size_t(u)] += (k & 1) ? size : 0;
+        corner[std::size_t(v)] += (k & 2) ? size : 0;
+        const Key key = make_key(corner);
+        const std::uint8_t what = ProofCache::what(depth, a, true);
+        ProofCache::Entry& known = e.proofs.slot(key, what);
+        if (known.corner == key && known.what == what) {
+          state = known.ok;
+        } else {
+          Box3 ed = b;
+          ed.lo[u] = ed.hi[u] = (k & 1) ? b.hi[u] : b.lo[u];
+          ed.lo[v] = ed.hi[v] = (k & 2) ? b.hi[v] : b.lo[v];
+          state = edge_ok(e, ed, a) ? 1 : -1;
+          known = {key, what, state, FaceProof{}};
+        }
       }
       if (state < 0) return false;
     }
@@ -547,7 +601,7 @@ class Refiner {
     }
     CellProofs proofs;
     if (depth >= settings_.min_depth && smooth &&
-        locally_certified(e, b, g, settings_.strict, proofs)) {
+        locally_certified(e, b, at, s, depth, g, settings_.strict, proofs)) {
       return Leaf{at, std::uint8_t(depth), Kind::kCertified, 0};
     }
     if (depth == grid_.max_depth) {
@@ -555,7 +609,7 @@ class Refiner {
     }
     if (depth >= settings_.min_depth && smooth && defined && tighten(e, at, depth, g, kids)) {
       if (zero_free(g.v)) return empty(at, depth, g.v);
-      if (locally_certified(e, b, g, settings_.strict, proofs)) {
+      if (locally_certified(e, b, at, s, depth, g, settings_.strict, proofs)) {
         return Leaf{at, std::uint8_t(depth), Kind::kCertified, 0};
       }
     }

@@ -87,7 +87,10 @@ struct CertifiedMeshStats {
   std::uint64_t uncertain_corners = 0;  ///< corners whose interval value straddles 0
   std::uint64_t open_chains = 0;        ///< crossings that did not close into loops (uncertified)
   std::uint64_t rounds = 0;             ///< global rounds of splitting (faces, loops, fans)
-  std::uint64_t interval_evaluations = 0;  ///< of f and its gradient, over cells/faces/edges/points
+  /// Of f and its gradient, over cells, faces, edges and points. Face and edge proofs are shared
+  /// between neighbouring cells through a per-thread cache, so with several threads this count
+  /// varies slightly from run to run (by about 1 in 10^5); the mesh and the certificates do not.
+  std::uint64_t interval_evaluations = 0;
   int finest_depth = 0;                    ///< deepest leaf below its root
   /// Within the certified leaves, every mesh point lies at most this far from the surface: the
   /// largest diagonal of a certified leaf that holds mesh (its triangles stay in the leaf, and a
