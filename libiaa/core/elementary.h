@@ -1,4 +1,4 @@
-// Point kernels of sin, cos and exp with a proved error bound, for the interval rules of
+// Point kernels of sin, cos, exp and log with a proved error bound, for the interval rules of
 // interval.cpp (one argument reduction and a polynomial per endpoint, no libm call, no switch of
 // the rounding mode) and for point evaluation.
 //
@@ -162,6 +162,117 @@ inline double exp_kernel(double x) {
   return (scale * kExp2Table[k & 31]) * e_r;
 }
 
+/// log(j/64) for j = 48 .. 96 as hi + lo: hi rounded to nearest, lo the rest rounded to nearest,
+/// so |hi + lo - log(j/64)| <= 2^-53 |lo| < 2^-107 (the MPFR test checks each pair).
+inline constexpr double kLogTable[49][2] = {
+    {-0x1.269621134db92p-2, -0x1.e0efadd9db02bp-56},  // log(48/64)
+    {-0x1.1178e8227e47cp-2, 0x1.0e63a5f01c691p-57},   // log(49/64)
+    {-0x1.f991c6cb3b379p-3, -0x1.f665066f980a2p-57},  // log(50/64)
+    {-0x1.d1037f2655e7bp-3, -0x1.60629242471a2p-57},  // log(51/64)
+    {-0x1.a93ed3c8ad9e3p-3, -0x1.bcafa9de97203p-57},  // log(52/64)
+    {-0x1.823c16551a3c2p-3, 0x1.1232ce70be781p-57},   // log(53/64)
+    {-0x1.5bf406b543db2p-3, 0x1.1f5b44c0df7e7p-61},   // log(54/64)
+    {-0x1.365fcb0159016p-3, -0x1.7d411a5b944adp-58},  // log(55/64)
+    {-0x1.1178e8227e47cp-3, 0x1.0e63a5f01c691p-58},   // log(56/64)
+    {-0x1.da727638446a2p-4, -0x1.401fa71733019p-58},  // log(57/64)
+    {-0x1.9335e5d594989p-4, 0x1.478a85704ccb7p-58},   // log(58/64)
+    {-0x1.4d3115d207eacp-4, -0x1.769f42c7842ccp-58},  // log(59/64)
+    {-0x1.08598b59e3a07p-4, 0x1.dd7009902bf32p-58},   // log(60/64)
+    {-0x1.894aa149fb343p-5, -0x1.a8be97660a23dp-60},  // log(61/64)
+    {-0x1.0415d89e74444p-5, -0x1.c05cf1d753622p-59},  // log(62/64)
+    {-0x1.0205658935847p-6, -0x1.27c8e8416e71fp-60},  // log(63/64)
+    {0x0p+0, 0x0p+0},                                 // log(64/64)
+    {0x1.fc0a8b0fc03e4p-7, -0x1.83092c59642a1p-62},   // log(65/64)
+    {0x1.f829b0e7833p-6, 0x1.33e3f04f1ef23p-60},      // log(66/64)
+    {0x1.77458f632dcfcp-5, 0x1.18d3ca87b9296p-59},    // log(67/64)
+    {0x1.f0a30c01162a6p-5, 0x1.85f325c5bbacdp-59},    // log(68/64)
+    {0x1.341d7961bd1d1p-4, -0x1.b599f227becbbp-58},   // log(69/64)
+    {0x1.6f0d28ae56b4cp-4, -0x1.906d99184b992p-58},   // log(70/64)
+    {0x1.a926d3a4ad563p-4, 0x1.942f48aa70ea9p-58},    // log(71/64)
+    {0x1.e27076e2af2e6p-4, -0x1.61578001e0162p-60},   // log(72/64)
+    {0x1.0d77e7cd08e59p-3, 0x1.9a5dc5e9030acp-57},    // log(73/64)
+    {0x1.29552f81ff523p-3, 0x1.301771c407dbfp-57},    // log(74/64)
+    {0x1.44d2b6ccb7d1ep-3, 0x1.9f4f6543e1f88p-57},    // log(75/64)
+    {0x1.5ff3070a793d4p-3, -0x1.bc60efafc6f6ep-58},   // log(76/64)
+    {0x1.7ab890210d909p-3, 0x1.be36b2d6a0608p-59},    // log(77/64)
+    {0x1.9525a9cf456b4p-3, 0x1.d904c1d4e2e26p-57},    // log(78/64)
+    {0x1.af3c94e80bff3p-3, -0x1.398cff3641985p-58},   // log(79/64)
+    {0x1.c8ff7c79a9a22p-3, -0x1.4f689f8434012p-57},   // log(80/64)
+    {0x1.e27076e2af2e6p-3, -0x1.61578001e0162p-59},   // log(81/64)
+    {0x1.fb9186d5e3e2bp-3, -0x1.caaae64f21acbp-57},   // log(82/64)
+    {0x1.0a324e27390e3p-2, 0x1.7dcfde8061c03p-56},    // log(83/64)
+    {0x1.1675cababa60ep-2, 0x1.ce63eab883717p-61},    // log(84/64)
+    {0x1.22941fbcf7966p-2, -0x1.76f5eb09628afp-56},   // log(85/64)
+    {0x1.2e8e2bae11d31p-2, -0x1.8f4cdb95ebdf9p-56},   // log(86/64)
+    {0x1.3a64c556945eap-2, -0x1.c68651945f97cp-57},   // log(87/64)
+    {0x1.4618bc21c5ec2p-2, 0x1.f42decdeccf1dp-56},    // log(88/64)
+    {0x1.51aad872df82dp-2, 0x1.3927ac19f55e3p-59},    // log(89/64)
+    {0x1.5d1bdbf5809cap-2, 0x1.4236383dc7fe1p-56},    // log(90/64)
+    {0x1.686c81e9b14afp-2, -0x1.ddea0f7f58e3dp-57},   // log(91/64)
+    {0x1.739d7f6bbd007p-2, -0x1.8c76ceb014b04p-56},   // log(92/64)
+    {0x1.7eaf83b82afc3p-2, 0x1.92ce979ed295p-56},     // log(93/64)
+    {0x1.89a3386c1425bp-2, -0x1.29639dfbbf0fbp-56},   // log(94/64)
+    {0x1.947941c2116fbp-2, -0x1.16cc8bae0bbe4p-56},   // log(95/64)
+    {0x1.9f323ecbf984cp-2, -0x1.a92e513217f5cp-59},   // log(96/64)
+};
+
+/// The smallest and largest x whose log_kernel is exact up to its relative bound alone (no
+/// absolute term): x in [127/128, 129/128), where the reduction below is x = 1 * (x / 1).
+inline constexpr double kLogNearOneLo = 0x1.fcp-1, kLogNearOneHi = 0x1.02p+0;
+/// Absolute error term of log_kernel away from 1 (see log_kernel).
+inline constexpr double kLogAbsErr = 0x1p-56;
+
+/// log x for a finite x > 0 (not checked), with |v - log x| <= kRelErr |v| + log_abs_err(x).
+///
+/// Reduction: x = 2^e m with m in [0.75, 1.5) (subnormals scaled by 2^54 first, exactly), by the
+/// bits of x: exact. c = j/64 with j = round(64 m) in 48 .. 96 (from the truncation of 128 m,
+/// exact), so |m - c| <= 2^-7 and m - c is exact (Sterbenz). log x = e ln2 + log c + log(m/c),
+/// log(m/c) = 2 atanh(u), u = (m - c)/(m + c), |u| <= 2^-7 / 1.49 < 0.00526 (m + c >= 1.49).
+/// Bound (e = 2^-52): m + c and the quotient round with relative error e each, so u is within
+/// 2.01 e relatively, which moves 2 atanh(u) by at most 2.02 e relatively (its derivative is
+/// 2/(1 - u^2), its value >= 2|u|). p = 2u + u (z Q), z = u^2, Q = 2/3 + z (2/5 + z 2/7), the
+/// Taylor polynomial of 2 atanh to u^7 (remainder <= 2|u| u^8 / 8 < 10^-19 |p|); |u z Q| <=
+/// 2^-15.6 |u|, so its own rounding errors count for under 0.001 e, and the last add e: |p -
+/// log(m/c)| <= 3.1 e |p|, |p| <= 0.01053.
+/// - e = 0, j = 64 (x in [127/128, 129/128)): the sums below add exact zeros, v = p, and
+///   |v - log x| <= 3.1 e |v|.
+/// - Else: ln2 = L1 + L2 + d, L1 of 40 bits so that e L1 is exact (|e| <= 1076), |L2| < 2^-42,
+///   |d| < 2^-95; the table's error < 2^-107. s2 = e L2 + lo (|s2| < 2^-30, error < 2^-81),
+///   s3 = s2 + p (error e |s3|, |s3| <= 0.0106), s1 = e L1 + hi (error e |s1|), v = s1 + s3
+///   (error e |v|). With |s1| <= |v| + |s3|: |v - log x| <= e |v| + e |s1| + e |s3| + 3.1 e |p| +
+///   2^-80 <= 2 e |v| + 0.055 e, within kRelErr |v| + kLogAbsErr (0.0625 e).
+inline double log_kernel(double x) {
+  constexpr double kL1 = 0x1.62e42fefa4p-1, kL2 = -0x1.8432a1b0e2634p-43;
+  int e = 0;
+  if (x < 0x1p-1022) {  // subnormal: scale into the normal range (exact)
+    x *= 0x1p54;
+    e = -54;
+  }
+  const auto bits = std::bit_cast<std::uint64_t>(x);
+  e += static_cast<int>(bits >> 52) - 1023;
+  // m in [1, 2) from the mantissa; m >= 1.5 (its first fraction bit set) becomes m / 2.
+  std::uint64_t mb = (bits & 0x000fffffffffffffULL) | (std::uint64_t{1023} << 52);
+  if (mb & (std::uint64_t{1} << 51)) {
+    mb -= std::uint64_t{1} << 52;
+    ++e;
+  }
+  const double m = std::bit_cast<double>(mb);
+  const int j = (static_cast<int>(m * 128.0) + 1) >> 1;  // round(64 m): 48 .. 96
+  const double c = j * 0x1p-6;
+  const double u = (m - c) / (m + c);
+  const double z = u * u;
+  const double q = 0x1.5555555555555p-1 + z * (0x1.999999999999ap-2 + z * 0x1.2492492492492p-2);
+  const double p = 2.0 * u + u * (z * q);  // 2/3, 2/5, 2/7 above
+  const double ed = e;
+  const double* t = kLogTable[j - 48];
+  return (ed * kL1 + t[0]) + ((ed * kL2 + t[1]) + p);
+}
+
+/// Absolute error term of log_kernel(x): 0 near 1, where log x is p alone, else kLogAbsErr.
+inline double log_abs_err(double x) {
+  return (x >= kLogNearOneLo && x < kLogNearOneHi) ? 0.0 : kLogAbsErr;
+}
+
 // Point values (the kernels without widening; libm beyond their ranges and for NaN).
 
 inline double sin(double x) {
@@ -187,6 +298,11 @@ inline void sincos(double x, double* s, double* c) {
 }
 inline double exp(double x) {
   return std::fabs(x) <= kExpMax ? exp_kernel(x) : std::exp(x);
+}
+
+/// log x: the kernel for finite x > 0, libm otherwise (-inf at 0, NaN below, inf at inf).
+inline double log(double x) {
+  return (x > 0.0 && x <= 0x1.fffffffffffffp+1023) ? log_kernel(x) : std::log(x);
 }
 
 }  // namespace iaa::elementary

@@ -99,13 +99,6 @@ class LibmNearest {
   LibmNearest& operator=(const LibmNearest&) = delete;
 };
 
-// f at both ends of x, its libm calls in round-to-nearest (LibmNearest).
-template <class F>
-std::pair<double, double> at_ends(const Interval& x, F f) {
-  const LibmNearest nearest;
-  return {f(x.lo()), f(x.hi())};
-}
-
 // v - (elementary::kRelErr |v| + abs) rounded down, and v + (...) rounded up: the ends of an
 // enclosure of f(x) from a kernel value v of elementary.h with the absolute error term `abs`.
 // Needs upward rounding: the error term and the upper end round up, and -((-v) + err) rounds the
@@ -242,17 +235,30 @@ Interval exp(const Interval& x) {
   return Interval(exp_below(x.lo()), exp_above(x.hi()));
 }
 
+namespace {
+// The lower (upper) bound of log over an interval with the end v > 0: the kernel (elementary.h)
+// widened by its bound where v is finite, log(inf) = inf otherwise. Each bound depends on its
+// own end only, as for exp.
+double log_below(double v) {
+  if (v <= DBL_MAX) return below(elementary::log_kernel(v), elementary::log_abs_err(v));
+  return kInf;  // [inf, inf]: beyond every finite double, as its log
+}
+double log_above(double v) {
+  if (v <= DBL_MAX) return above(elementary::log_kernel(v), elementary::log_abs_err(v));
+  return kInf;
+}
+}  // namespace
+
 Interval log(const Interval& x, Domain* dom) {
   if (x.is_empty()) return x;
   if (x.hi() <= 0.0) {
     *dom = Domain::kPartial;
     return Interval::empty();
   }
-  // log(lo) for lo > 0; -inf where the box reaches 0 or below (partial).
-  const auto [l_lo, l_hi] = at_ends(x, [](double v) { return v > 0.0 ? std::log(v) : -kInf; });
+  IAA_ASSERT_UPWARD();
+  // -inf where the box reaches 0 or below (partial); log of a finite double is at most ~709.8.
   if (x.lo() <= 0.0) *dom = Domain::kPartial;
-  // log of a finite double is at most ~709.8; log(inf) = inf stays unbounded.
-  return Interval(widen_down(l_lo), widen_up(l_hi));
+  return Interval(x.lo() > 0.0 ? log_below(x.lo()) : -kInf, log_above(x.hi()));
 }
 
 namespace {

@@ -19,12 +19,12 @@
 // - sqrt/log of an interval reaching below 0 (resp. 0): clamped to the domain; the caller is told
 //   through the Domain result so that it can mark the value as *partial domain* (no sign-change
 //   argument may then be made on the box). Entirely outside the domain: `empty`.
-// - sin, cos and exp (|x| <= 1e6, resp. 708) use the kernels of core/elementary.h: one argument
-//   reduction and a Taylor polynomial per endpoint with a proved error bound, widened by that
-//   bound (needs upward rounding, like the arithmetic); no libm call, no mode switch. Beyond
-//   those ranges, and for log tan atan and the real power, <cmath>, which guarantees nothing
-//   about its error: results are widened outward by kTranscUlps ulps and clamped to the true
-//   range.
+// - sin, cos and exp (|x| <= 1e6, resp. 708) and log (finite x > 0) use the kernels of
+//   core/elementary.h: one argument reduction and a polynomial per endpoint with a proved error
+//   bound, widened by that bound (needs upward rounding, like the arithmetic); no libm call, no
+//   mode switch. Beyond those ranges, and for tan atan and the real power, <cmath>, which
+//   guarantees nothing about its error: results are widened outward by kTranscUlps ulps and
+//   clamped to the true range.
 // - Integer powers are tight: [-2,1]^2 = [0,4].
 // - NaN never escapes: a NaN lower bound becomes -inf and a NaN upper bound +inf (this happens for
 //   inf - inf or 0 * inf), which is the sound answer "anything".

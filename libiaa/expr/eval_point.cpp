@@ -22,7 +22,7 @@ double PointRules::exp(double a) {
   return elementary::exp(a);
 }
 double PointRules::log(double a, Domain*) {
-  return a > 0.0 ? std::log(a) : std::numeric_limits<double>::quiet_NaN();
+  return a > 0.0 ? elementary::log(a) : std::numeric_limits<double>::quiet_NaN();
 }
 double PointRules::sin(double a) {
   return elementary::sin(a);

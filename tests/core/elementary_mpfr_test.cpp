@@ -1,14 +1,15 @@
 // The kernels of core/elementary.h against MPFR: on random and hard arguments, in each of the four
 // rounding modes, |v - f(x)| must stay within half the bound the interval rules widen by
 // (kRelErr |v| + the absolute term), so that the bound holds with a margin of 2. Then the
-// interval rules built on them (sin, cos, sincos, exp of interval.h) must contain f at both ends
-// and take +-1 exactly where a multiple of pi/2 lies inside. IAA_MPFR_CASES sets the number of
+// interval rules built on them (sin, cos, sincos, exp, log of interval.h) must contain f at both
+// ends and take +-1 exactly where a multiple of pi/2 lies inside. IAA_MPFR_CASES sets the number of
 // arguments per kernel and mode (default 25 000: 10^5 per kernel).
 #include <gtest/gtest.h>
 #include <mpfr.h>
 
 #include <algorithm>
 #include <cfenv>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -47,7 +48,7 @@ class Checker {
     mpfr_sub(d_, d_, f_, MPFR_RNDN);
     const double err = std::fabs(mpfr_get_d(d_, MPFR_RNDU));
     const double bound = el::kRelErr * std::fabs(v) + abs;
-    return err / bound;
+    return err == 0 ? 0.0 : err / bound;  // exact (log 1 = 0 has the bound 0)
   }
   /// True when the double interval [lo, hi] contains f(x).
   bool contains(Fn f, double x, double lo, double hi) {
@@ -174,12 +175,73 @@ TEST(ElementaryMpfr, ExpTableIsRoundedToNearest) {
   mpfr_clear(t);
 }
 
+/// Arguments of log: the hard ones (1 and its neighbours, the ends of the reduction's cells
+/// (2k + 1)/128 and the switch at 1.5 in every binade's mantissa, powers of 2, subnormals, the
+/// largest double), then log-uniform magnitudes over every double and uniform ones in [0.5, 2].
+std::vector<double> log_arguments(std::mt19937_64& rng) {
+  std::vector<double> xs = {1.0, DBL_MIN, DBL_MAX, 0x1p-1074, 0x1.8p-1074, 0x1p-1060, 0.75, 1.5};
+  const auto around = [&](double x, int n) {
+    for (int s = 0; s < n; ++s) x = std::nextafter(x, 0.0);
+    for (int s = 0; s < 2 * n + 1; ++s, x = std::nextafter(x, HUGE_VAL)) {
+      if (x > 0) xs.push_back(x);
+    }
+  };
+  around(1.0, 50);
+  for (int k = 95; k <= 193; k += 2) around(k / 128.0, 3);  // cell ends, 0.74 .. 1.51
+  for (int e = -1074; e <= 1023; e += 7) {
+    around(std::ldexp(1.0, e), 2);
+    if (e > -1022) around(std::ldexp(1.5, e), 2);
+  }
+  std::uniform_real_distribution<double> expo(-1074.0, 1024.0), near_one(0.5, 2.0);
+  const long n = cases(), hard = static_cast<long>(xs.size());
+  while (static_cast<long>(xs.size()) < n) {
+    const double m = std::exp2(expo(rng));
+    if (m > 0 && m <= DBL_MAX) xs.push_back(m);
+    xs.push_back(near_one(rng));
+  }
+  xs.resize(static_cast<std::size_t>(std::max(n, hard)));
+  return xs;
+}
+
+TEST(ElementaryMpfr, LogKernelWithinHalfItsBound) {
+  std::mt19937_64 rng(19);
+  Checker ck;
+  const std::vector<double> xs = log_arguments(rng);
+  const double w = worst_ratio(ck, mpfr_log, xs, [](double x, double* v, double* abs) {
+    *v = el::log_kernel(x);
+    *abs = el::log_abs_err(x);
+  });
+  std::printf("log: worst error %.3f of the bound (%zu arguments, 4 modes)\n", w, xs.size());
+  EXPECT_EQ(el::log_kernel(1.0), 0.0);
+}
+
+TEST(ElementaryMpfr, LogTableIsDoubleDouble) {
+  // hi is log(j/64) rounded to nearest, lo the rest rounded to nearest.
+  mpfr_t t;
+  mpfr_init2(t, 300);
+  for (int j = 48; j <= 96; ++j) {
+    mpfr_set_si(t, j, MPFR_RNDN);
+    mpfr_div_2ui(t, t, 6, MPFR_RNDN);
+    mpfr_log(t, t, MPFR_RNDN);
+    const double hi = mpfr_get_d(t, MPFR_RNDN);
+    EXPECT_EQ(el::kLogTable[j - 48][0], hi) << j;
+    mpfr_sub_d(t, t, hi, MPFR_RNDN);
+    EXPECT_EQ(el::kLogTable[j - 48][1], mpfr_get_d(t, MPFR_RNDN)) << j;
+  }
+  mpfr_clear(t);
+}
+
 TEST(ElementaryMpfr, PointValuesAreTheKernels) {
   // Beyond the kernels' ranges the point functions are libm's; NaN stays NaN.
   EXPECT_EQ(el::sin(1e7), std::sin(1e7));
   EXPECT_EQ(el::exp(710.0), std::exp(710.0));
   EXPECT_TRUE(std::isnan(el::sin(NAN)));
   EXPECT_TRUE(std::isnan(el::exp(NAN)));
+  EXPECT_EQ(el::log(0.0), -HUGE_VAL);
+  EXPECT_EQ(el::log(HUGE_VAL), HUGE_VAL);
+  EXPECT_TRUE(std::isnan(el::log(-1.0)));
+  EXPECT_TRUE(std::isnan(el::log(NAN)));
+  EXPECT_EQ(el::log(2.5), el::log_kernel(2.5));
   double s = 0, c = 0;
   el::sincos(2.5, &s, &c);
   EXPECT_EQ(s, el::sin(2.5));
@@ -235,6 +297,22 @@ TEST(ElementaryMpfr, IntervalRulesContainTheEndsAndTheExtrema) {
     }
     EXPECT_GE(e.lo(), 0.0);
   }
+  // log: both ends inside, over every binade (subnormals, 1, the largest double included).
+  const std::vector<double> lx = log_arguments(rng);
+  std::uniform_int_distribution<std::size_t> lpick(0, lx.size() - 1);
+  for (long i = 0; i < n; ++i) {
+    const double a = lx[lpick(rng)], b = (i & 1) ? lx[lpick(rng)] : a * (1 + 1e-6 * width(rng));
+    const Interval x(std::min(a, b), std::max(a, b));
+    Domain dom = Domain::kFull;
+    const Interval l = log(x, &dom);
+    EXPECT_EQ(dom, Domain::kFull);
+    for (double v : {x.lo(), x.hi()}) {
+      if (v > DBL_MAX) continue;
+      ASSERT_TRUE(ck.contains(mpfr_log, v, l.lo(), l.hi())) << x.lo() << " " << x.hi();
+    }
+  }
+  Domain dom = Domain::kFull;
+  EXPECT_EQ(log(Interval(1.0), &dom), Interval(0.0));
 }
 
 }  // namespace
