@@ -1,7 +1,7 @@
 // `iaa bench tape`: nanoseconds per tape operation for each evaluator, on the chubs and Barth
 // sextic expressions (read from their scenes in data/scenes), next to the same expressions
-// hand-written in plain double arithmetic and compiled natively, all measured in the same run.
-// Medians of several runs.
+// hand-written in plain double arithmetic and compiled natively, all measured in the same run,
+// and the throughput (tape operations per second on one core). Medians of several runs.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -178,6 +178,11 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
             {"interval", ns(t.interval)},
             {"point_grad", ns(t.point_grad)},
             {"interval_grad", ns(t.interval_grad)}}},
+          {"ops_per_second_per_core",
+           {{"point", 1e9 / ns(t.point)},
+            {"interval", 1e9 / ns(t.interval)},
+            {"point_grad", 1e9 / ns(t.point_grad)},
+            {"interval_grad", 1e9 / ns(t.interval_grad)}}},
           {"interval_over_point", ratio},
           {"interval_over_point_target", kIntervalOverPointTarget},
           {"within_target", within}};
@@ -192,6 +197,16 @@ void run(const Options& o) {
     const std::vector<Vec3> pts = sample_points(scenes[i].bounds, o.points);
     const Times t = measure(kSurfaces[i], tape, pts, o.runs);
     out.push_back(report(kSurfaces[i], tape, t, o));
+  }
+  // Throughput: tape operations per second on one core (the runs are single-threaded).
+  std::printf("\n%-13s %12s %12s %12s %12s\n", "throughput", "point", "interval", "pt+grad",
+              "iv+grad");
+  std::printf("%-13s %12s %12s %12s %12s\n", "", "Mop/s/core", "Mop/s/core", "Mop/s/core",
+              "Mop/s/core");
+  for (const nlohmann::json& r : out) {
+    const auto mops = [&](const char* k) { return 1e3 / r["ns_per_op"][k].get<double>(); };
+    std::printf("%-13s %12.0f %12.0f %12.0f %12.0f\n", r["surface"].get<std::string>().c_str(),
+                mops("point"), mops("interval"), mops("point_grad"), mops("interval_grad"));
   }
   std::printf(
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"
