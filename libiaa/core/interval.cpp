@@ -130,12 +130,11 @@ double widen_up(double v, int n) {
 
 double Interval::mid() const {
   if (is_empty()) return std::numeric_limits<double>::quiet_NaN();
-  const double l = lo(), h = hi();
-  if (l == -kInf && h == kInf) return 0.0;
-  if (l == -kInf) return h > 0.0 ? 0.0 : h;
-  if (h == kInf) return l < 0.0 ? 0.0 : l;
-  const double m = l + 0.5 * (h - l);
-  return std::clamp(m, l, h);
+  if (lo_ == -kInf && hi_ == kInf) return 0.0;
+  if (lo_ == -kInf) return hi_ > 0.0 ? 0.0 : hi_;
+  if (hi_ == kInf) return lo_ < 0.0 ? 0.0 : lo_;
+  const double m = lo_ + 0.5 * (hi_ - lo_);
+  return std::clamp(m, lo_, hi_);
 }
 
 Interval hull(const Interval& a, const Interval& b) {

@@ -109,56 +109,45 @@ inline bool rounding_is_upward() {
 inline constexpr int kTranscUlps = 8;
 
 /// A closed interval [lo, hi] of reals, possibly unbounded, possibly empty.
-///
-/// Stored as (-lo, hi): with the FPU rounding upward, both stored numbers of a sum, a difference
-/// or a product by a constant are then rounded the same way (upward), so that one SSE2 operation
-/// computes both bounds (a sum is one addition of the pairs; a difference one addition with the
-/// second pair swapped). Negation is exact, so lo() and hi() give the bounds exactly as stored
-/// before, signs of zeros included, and every operation computes the same doubles as with a
-/// stored lo (tests/core/interval_test.cpp, docs/eval.md).
 class Interval {
  public:
   using Boost = detail::BoostInterval;
 
   /// The degenerate interval [0, 0].
-  Interval() : nlo_(-0.0), hi_(0.0) {}
+  Interval() : lo_(0.0), hi_(0.0) {}
   /// The degenerate interval [v, v]. A NaN gives the whole line.
-  Interval(double v) : nlo_(-v), hi_(v) {  // NOLINT: implicit by design, like a number
+  Interval(double v) : lo_(v), hi_(v) {  // NOLINT: implicit by design, like a number
     if (v != v) *this = whole();
   }
   /// [lo, hi]. NaN bounds become infinite (outward); lo > hi is the caller's bug and gives empty.
-  Interval(double lo, double hi) : nlo_(lo != lo ? kInf : -lo), hi_(hi != hi ? kInf : hi) {
-    if (-nlo_ > hi_) *this = empty();
+  Interval(double lo, double hi) : lo_(lo != lo ? -kInf : lo), hi_(hi != hi ? kInf : hi) {
+    if (lo_ > hi_) *this = empty();
   }
   explicit Interval(const Boost& b) : Interval(b.lower(), b.upper()) {}
 
   static Interval whole() { return raw(-kInf, kInf); }
   static Interval empty() { return raw(kInf, -kInf); }
 
-  double lo() const { return -nlo_; }
+  double lo() const { return lo_; }
   double hi() const { return hi_; }
-  /// -lo, as stored.
-  double neg_lo() const { return nlo_; }
-  bool is_empty() const { return lo() > hi_; }
-  bool is_point() const { return lo() == hi_; }
-  bool is_finite() const { return std::isfinite(nlo_) && std::isfinite(hi_); }
-  bool contains(double v) const { return lo() <= v && v <= hi_; }
-  bool contains(const Interval& o) const {
-    return o.is_empty() || (lo() <= o.lo() && o.hi_ <= hi_);
-  }
+  bool is_empty() const { return lo_ > hi_; }
+  bool is_point() const { return lo_ == hi_; }
+  bool is_finite() const { return std::isfinite(lo_) && std::isfinite(hi_); }
+  bool contains(double v) const { return lo_ <= v && v <= hi_; }
+  bool contains(const Interval& o) const { return o.is_empty() || (lo_ <= o.lo_ && o.hi_ <= hi_); }
   /// True if 0 lies in the interval: the only test a root exclusion may use.
-  bool contains_zero() const { return lo() <= 0.0 && 0.0 <= hi_; }
+  bool contains_zero() const { return lo_ <= 0.0 && 0.0 <= hi_; }
   /// Width hi - lo, rounded upward (needs a RoundingScope to be an upper bound).
-  double width() const { return is_empty() ? 0.0 : hi_ + nlo_; }
+  double width() const { return is_empty() ? 0.0 : hi_ - lo_; }
   /// A point inside the interval (the midpoint when finite), for splitting and shading.
   double mid() const;
   /// Greatest absolute value. (std::max, not std::fmax: the bounds are never NaN, and fmax is a
   /// libm call under -frounding-math.)
-  double mag() const { return std::max(std::fabs(nlo_), std::fabs(hi_)); }
-  bool certainly_positive() const { return lo() > 0.0; }
+  double mag() const { return std::max(std::fabs(lo_), std::fabs(hi_)); }
+  bool certainly_positive() const { return lo_ > 0.0; }
   bool certainly_negative() const { return hi_ < 0.0; }
 
-  Boost boost() const { return Boost(lo(), hi_); }
+  Boost boost() const { return Boost(lo_, hi_); }
 
   /// Assigns v with one 16-byte store where SSE2 is available. The tape loop writes each result
   /// slot once and later operations read it, often with one 16-byte load; a plain assignment may
@@ -167,41 +156,21 @@ class Interval {
   /// evaluators are").
   void store(const Interval& v) {
 #if defined(__SSE2__)
-    _mm_storeu_pd(&nlo_, _mm_set_pd(v.hi_, v.nlo_));
+    _mm_storeu_pd(&lo_, _mm_set_pd(v.hi_, v.lo_));
 #else
     *this = v;
 #endif
   }
 
-#if defined(__SSE2__)
-  /// The stored pair (-lo, hi) in one register, and back. Built from and taken apart into the
-  /// two doubles, not through memory: a 16-byte load of two 8-byte stores waits for them (see
-  /// store(); an Interval returned by a function comes back in two registers). GCC keeps the
-  /// register where it can.
-  __m128d pair() const {
-    return _mm_set_pd(hi_, nlo_);
-  }
-  static Interval from_pair(__m128d p) {
-    return raw_neg(_mm_cvtsd_f64(p), _mm_cvtsd_f64(_mm_unpackhi_pd(p, p)));
-  }
-#endif
-
   friend bool operator==(const Interval& a, const Interval& b) {
-    return (a.is_empty() && b.is_empty()) || (a.nlo_ == b.nlo_ && a.hi_ == b.hi_);
+    return (a.is_empty() && b.is_empty()) || (a.lo_ == b.lo_ && a.hi_ == b.hi_);
   }
 
   /// Builds [lo, hi] with no checks; for operation code that already guarantees lo <= hi or
   /// intends the empty representation.
   static Interval raw(double lo, double hi) {
     Interval r;
-    r.nlo_ = -lo;
-    r.hi_ = hi;
-    return r;
-  }
-  /// The same from -lo and hi.
-  static Interval raw_neg(double neg_lo, double hi) {
-    Interval r;
-    r.nlo_ = neg_lo;
+    r.lo_ = lo;
     r.hi_ = hi;
     return r;
   }
@@ -209,7 +178,7 @@ class Interval {
   static constexpr double kInf = std::numeric_limits<double>::infinity();
 
  private:
-  double nlo_, hi_;  ///< -lo and hi
+  double lo_, hi_;
 };
 
 static_assert(sizeof(Interval) == 2 * sizeof(double), "Interval::store writes lo and hi at once");
@@ -233,70 +202,30 @@ inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Each operation computes its bounds first and checks them once: the rare cases (an empty
 // argument, a NaN bound from inf - inf or 0 * inf) leave the fast path on one predictable branch.
-//
-// Rounding upward, x + y rounds up and -((-x) - y) rounds down (Boost's "opposite" trick, without
-// its volatile round trip, which only x87 code needs): with -lo stored, both are sums rounded
-// upward, (-a.lo) + (-b.lo) and a.hi + b.hi, one SSE2 addition of the stored pairs. x - y is x +
-// (-y) in IEEE arithmetic, signs of zeros included, so the doubles are those of the scalar
-// formulas. -frounding-math keeps the compiler from folding; tests/core/rounding_test.cpp checks
-// it.
-
-namespace detail {
-#if defined(__SSE2__)
-/// The pair (-lo, hi) with its two lanes exchanged: (hi, -lo).
-inline __m128d swap_pair(__m128d v) {
-  return _mm_shuffle_pd(v, v, 1);
-}
-/// Sign bits of lane 0, lane 1 and both, for xor.
-inline __m128d sign_lane0() {
-  return _mm_set_pd(0.0, -0.0);
-}
-inline __m128d sign_lane1() {
-  return _mm_set_pd(-0.0, 0.0);
-}
-inline __m128d sign_both() {
-  return _mm_set1_pd(-0.0);
-}
-#endif
-/// The interval of a sum or difference whose pair (-lo, hi) was computed as (nlo, hi).
-/// Non-empty arguments give lo <= hi unless a bound is NaN (inf - inf); an empty argument (lo =
-/// +inf, hi = -inf) gives lo = +inf or NaN and hi = -inf or NaN, never lo <= hi.
-inline Interval checked_sum(const Interval& a, const Interval& b, double nlo, double hi) {
-  if (-nlo <= hi) [[likely]]
-    return Interval::raw_neg(nlo, hi);
-  if (a.is_empty() || b.is_empty()) return Interval::empty();
-  return Interval(-nlo, hi);  // a NaN bound becomes infinite: "anything", outward
-}
-}  // namespace detail
 
 inline Interval operator+(const Interval& a, const Interval& b) {
-#if defined(__SSE2__)
-  const __m128d r = _mm_add_pd(a.pair(), b.pair());
-  const double nlo = _mm_cvtsd_f64(r), hi = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
-  if (-nlo <= hi) [[likely]]
-    return Interval::from_pair(r);
-  return detail::checked_sum(a, b, nlo, hi);
-#else
-  return detail::checked_sum(a, b, a.neg_lo() + b.neg_lo(), a.hi() + b.hi());
-#endif
+  // Rounding upward: x + y rounds up, -((-x) - y) rounds down (Boost's "opposite" trick, without
+  // its volatile round trip, which only x87 code needs). -frounding-math keeps the compiler from
+  // folding the two into one; tests/core/rounding_test.cpp checks it.
+  const double lo = -((-a.lo()) - b.lo()), hi = a.hi() + b.hi();
+  // Non-empty arguments give lo <= hi unless a bound is NaN (inf - inf); an empty argument
+  // (lo = +inf, hi = -inf) gives lo = +inf or NaN and hi = -inf or NaN, never lo <= hi.
+  if (lo <= hi) [[likely]]
+    return Interval::raw(lo, hi);
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  return Interval(lo, hi);  // a NaN bound becomes infinite: "anything", outward
 }
 
 inline Interval operator-(const Interval& a, const Interval& b) {
-  // -lo = b.hi - a.lo = (-a.lo) + b.hi, hi = a.hi - b.lo = a.hi + (-b.lo).
-#if defined(__SSE2__)
-  const __m128d r = _mm_add_pd(a.pair(), detail::swap_pair(b.pair()));
-  const double nlo = _mm_cvtsd_f64(r), hi = _mm_cvtsd_f64(_mm_unpackhi_pd(r, r));
-  if (-nlo <= hi) [[likely]]
-    return Interval::from_pair(r);
-  return detail::checked_sum(a, b, nlo, hi);
-#else
-  return detail::checked_sum(a, b, a.neg_lo() + b.hi(), a.hi() + b.neg_lo());
-#endif
+  const double lo = -(b.hi() - a.lo()), hi = a.hi() - b.lo();
+  if (lo <= hi) [[likely]]  // as in operator+
+    return Interval::raw(lo, hi);
+  if (a.is_empty() || b.is_empty()) return Interval::empty();
+  return Interval(lo, hi);
 }
 
-/// [-hi, -lo]: the stored pair exchanged (an empty interval stays empty).
 inline Interval operator-(const Interval& a) {
-  return Interval::raw_neg(a.hi(), a.neg_lo());
+  return a.is_empty() ? a : Interval::raw(-a.hi(), -a.lo());
 }
 
 namespace detail {
@@ -312,36 +241,16 @@ Interval mul_general(const Interval& a, const Interval& b);
 }  // namespace detail
 
 inline Interval operator*(const Interval& a, const Interval& b) {
-  // Branch-free: the bounds are the extreme endpoint products. With the FPU rounding upward,
-  // p rounds up and -((-x) * y) rounds down. Finite factors give no NaN product (an overflow
-  // is an infinity, still a bound), so a plain max is exact; lo <= hi as lo is the least and
-  // hi the greatest of the same products, rounded down and up.
-#if defined(__SSE2__)
-  const __m128d pa = a.pair(), pb = b.pair();
-  const __m128d magnitude =
-      _mm_max_pd(_mm_andnot_pd(detail::sign_both(), pa), _mm_andnot_pd(detail::sign_both(), pb));
-  if (_mm_movemask_pd(_mm_cmple_pd(magnitude, _mm_set1_pd(std::numeric_limits<double>::max()))) ==
-      3) [[likely]] {
-    // Lane 0 holds the products of -lo's candidates (-x) * y, lane 1 those of hi, x * y, for the
-    // same x in {al, ah} and y in {bl, bh}: (-al, al) (bl, bl) and so on. max(y, x) is
-    // std::max(x, y) (the first when equal), so the doubles, zeros' signs included, are those of
-    // the scalar formulas below.
-    const __m128d al = _mm_xor_pd(_mm_unpacklo_pd(pa, pa), detail::sign_lane1());  // (-al, al)
-    const __m128d ah = _mm_xor_pd(_mm_unpackhi_pd(pa, pa), detail::sign_lane0());  // (-ah, ah)
-    const __m128d bl = _mm_xor_pd(_mm_unpacklo_pd(pb, pb), detail::sign_both());   // (bl, bl)
-    const __m128d bh = _mm_unpackhi_pd(pb, pb);                                    // (bh, bh)
-    const auto max = [](__m128d x, __m128d y) { return _mm_max_pd(y, x); };
-    return Interval::from_pair(max(max(_mm_mul_pd(al, bl), _mm_mul_pd(al, bh)),
-                                   max(_mm_mul_pd(ah, bl), _mm_mul_pd(ah, bh))));
-  }
-#else
   const double al = a.lo(), ah = a.hi(), bl = b.lo(), bh = b.hi();
   if (detail::all_finite(al, ah, bl, bh)) [[likely]] {
+    // Branch-free: the bounds are the extreme endpoint products. With the FPU rounding upward,
+    // p rounds up and -((-x) * y) rounds down. Finite factors give no NaN product (an overflow
+    // is an infinity, still a bound), so a plain max is exact; lo <= hi as lo is the least and
+    // hi the greatest of the same products, rounded down and up.
     const double hi = std::max(std::max(al * bl, al * bh), std::max(ah * bl, ah * bh));
-    const double nlo = std::max(std::max((-al) * bl, (-al) * bh), std::max((-ah) * bl, (-ah) * bh));
-    return Interval::raw_neg(nlo, hi);
+    const double lo = -std::max(std::max((-al) * bl, (-al) * bh), std::max((-ah) * bl, (-ah) * bh));
+    return Interval::raw(lo, hi);
   }
-#endif
   return detail::mul_general(a, b);
 }
 inline Interval& operator+=(Interval& a, const Interval& b) {
@@ -401,15 +310,8 @@ inline void abs_range(const Interval& x, double* small, double* big) {
 inline Interval scale(const Interval& a, double c) {
   IAA_ASSERT_UPWARD();
   assert(std::isfinite(c) && c != 0.0);
-  // c > 0: (-lo) c and hi c; c < 0: (-hi) c and lo c. Both rounded upward: one product of pairs.
-#if defined(__SSE2__)
-  const __m128d p =
-      c > 0.0 ? a.pair() : _mm_xor_pd(detail::swap_pair(a.pair()), detail::sign_both());
-  return Interval::from_pair(_mm_mul_pd(p, _mm_set1_pd(c)));
-#else
   const double l = c > 0.0 ? a.lo() : a.hi(), h = c > 0.0 ? a.hi() : a.lo();
-  return Interval::raw_neg((-l) * c, h * c);
-#endif
+  return Interval::raw(-((-l) * c), h * c);
 }
 
 /// a / c for a finite non-zero number c (a constant of the expression): two divisions, no tests;
@@ -417,14 +319,8 @@ inline Interval scale(const Interval& a, double c) {
 inline Interval div_const(const Interval& a, double c) {
   IAA_ASSERT_UPWARD();
   assert(std::isfinite(c) && c != 0.0);
-#if defined(__SSE2__)
-  const __m128d p =
-      c > 0.0 ? a.pair() : _mm_xor_pd(detail::swap_pair(a.pair()), detail::sign_both());
-  return Interval::from_pair(_mm_div_pd(p, _mm_set1_pd(c)));
-#else
   const double l = c > 0.0 ? a.lo() : a.hi(), h = c > 0.0 ? a.hi() : a.lo();
-  return Interval::raw_neg((-l) / c, h / c);
-#endif
+  return Interval::raw(-((-l) / c), h / c);
 }
 
 /// Division reporting kPartial when the divisor contains 0 (a pole or an undefined point).
