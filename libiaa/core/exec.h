@@ -12,6 +12,8 @@
 
 namespace iaa {
 
+class Spread;
+
 /// Progress and cancellation: the library reports, the tool draws (app/progress_bar.h), so the
 /// library itself never prints.
 /// Implementations must be thread-safe: advance() is called from worker threads.
@@ -38,6 +40,8 @@ struct Exec {
   int threads = 0;
   /// Optional progress sink; may be null.
   Progress* progress = nullptr;
+  /// Optional: shares the loops with other processes (core/spread.h); may be null.
+  Spread* spread = nullptr;
 
   int resolved_threads() const {
     return threads > 0 ? threads : tbb::this_task_arena::max_concurrency();

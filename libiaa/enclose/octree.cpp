@@ -17,9 +17,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <string>
+#include <type_traits>
 
 #include "core/error.h"
+#include "core/spread.h"
 #include "expr/eval_interval.h"
 #include "expr/specialize.h"
 
@@ -552,6 +555,76 @@ std::uint64_t Enclosure::count(CellClass cls) const {
   return n;
 }
 
+namespace {
+
+/// Phase 2 shared with other processes (Exec::spread): this process encloses the subtrees the
+/// spread hands it with its threads, then every subtree's leaves and counts come back to it. A
+/// subtree skipped because this process went over max_boxes is sent as "over the limit", so that
+/// every process ends with the same over_limit.
+static_assert(std::is_trivially_copyable_v<Cell>, "cells travel between processes as bytes");
+
+SpreadBalance enclose_spread(Shared& sh, const std::vector<Index>& frontier, int level,
+                             std::vector<std::vector<Cell>>& parts,
+                             std::vector<std::uint64_t>& evals,
+                             std::vector<std::uint64_t>& corner_evals,
+                             std::vector<std::uint64_t>& exp_signs, const ProgressPhase& phase,
+                             const Exec& exec) {
+  Spread& spread = *exec.spread;
+  const std::size_t n = frontier.size();
+  std::vector<std::string> results(n);
+  std::vector<std::uint64_t> work(n, 0);
+  spread.begin(n, &phase);
+  const int threads = exec.resolved_threads();
+  exec.run([&] {
+    tbb::parallel_for(0, threads, [&](int) {
+      RoundingScope scope;
+      SubtreeWorker w(sh);
+      for (std::int64_t k = spread.next(); k >= 0; k = spread.next()) {
+        const auto i = static_cast<std::size_t>(k);
+        std::string& res = results[i];
+        if (sh.over_limit.load(std::memory_order_relaxed)) {
+          put_bytes(res, std::uint8_t{1});
+          continue;
+        }
+        w.start(frontier[i], level);
+        w.visit(frontier[i], level, nullptr);
+        w.flush();
+        const std::vector<Cell>& cells = w.cells();
+        put_bytes(res, std::uint8_t{0});
+        put_bytes(res, w.evaluations());
+        put_bytes(res, w.corner_evaluations());
+        put_bytes(res, w.expansion_signs());
+        res.append(reinterpret_cast<const char*>(cells.data()), cells.size() * sizeof(Cell));
+        work[i] = w.evaluations() + w.corner_evaluations();
+        phase.advance(1);
+      }
+    });
+  });
+  SpreadBalance balance = spread.finish(results, work);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t pos = 0;
+    if (take_bytes<std::uint8_t>(results[i], pos)) {
+      sh.over_limit.store(true);
+      continue;
+    }
+    evals[i] = take_bytes<std::uint64_t>(results[i], pos);
+    corner_evals[i] = take_bytes<std::uint64_t>(results[i], pos);
+    exp_signs[i] = take_bytes<std::uint64_t>(results[i], pos);
+    const std::size_t bytes = results[i].size() - pos;
+    IAA_CHECK(bytes % sizeof(Cell) == 0);
+    parts[i].resize(bytes / sizeof(Cell));
+    std::memcpy(parts[i].data(), results[i].data() + pos, bytes);
+    std::string().swap(results[i]);
+  }
+  // No process may have seen the limit pass (each counts its own leaves): the total decides.
+  std::uint64_t total = 0;
+  for (const auto& part : parts) total += part.size();
+  if (total > sh.max_boxes) sh.over_limit.store(true);
+  return balance;
+}
+
+}  // namespace
+
 Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec& exec) {
   settings.validate();
   Shared sh;
@@ -600,7 +673,11 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   const std::size_t n = frontier.size();
   std::vector<std::vector<Cell>> parts(n);
   std::vector<std::uint64_t> evals(n, 0), corner_evals(n, 0), exp_signs(n, 0);
-  {
+  if (exec.spread) {
+    ProgressPhase phase(exec.progress, "enclose", n);
+    out.balance =
+        enclose_spread(sh, frontier, level, parts, evals, corner_evals, exp_signs, phase, exec);
+  } else {
     ProgressPhase phase(exec.progress, "enclose", n);
     exec.run([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const auto& r) {

@@ -20,6 +20,7 @@
 
 #include "core/exec.h"
 #include "core/interval.h"
+#include "core/spread.h"
 #include "core/vec.h"
 #include "expr/tape.h"
 
@@ -83,6 +84,8 @@ struct Enclosure {
   /// Number of leaves per depth (index) and class ([0] crossing, [1] possible); its size is
   /// depth + refine_possible + 1 of the settings that produced it.
   std::vector<std::array<std::uint64_t, 2>> counts_by_depth;
+  /// How the subtrees were shared between processes (Exec::spread); empty without a spread.
+  SpreadBalance balance;
 
   /// The box of a cell: exactly the box (bit for bit) that f was evaluated on. Neighbouring cells
   /// share their faces exactly and the leaves of one depth tile `bounds` without gaps.

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/spread.h"
 #include "core/vec.h"
 #include "scene/settings.h"
 
@@ -53,6 +54,8 @@ struct Film {
   std::vector<float> coverage;        ///< fraction of the pixel's area shown as surface
   FilmStats stats;
   double seconds = 0;  ///< wall time of render()
+  /// How the root blocks were shared between processes (Exec::spread); empty without a spread.
+  SpreadBalance balance;
 
   Film() = default;
   Film(int w, int h);

@@ -18,6 +18,7 @@
 #include <tbb/parallel_for.h>
 
 #include "core/error.h"
+#include "core/spread.h"
 #include "render/beam.h"
 #include "render/context.h"
 #include "render/kernel.h"
@@ -182,6 +183,80 @@ std::vector<std::pair<int, int>> root_blocks(const PixelWindow& win) {
   return roots;
 }
 
+/// The pixels of the root block at (bx, by) that the film's window holds, in row-major order.
+template <class F>
+void for_root_pixels(const Film& film, int bx, int by, F&& f) {
+  const PixelWindow& win = film.window;
+  for (int y = std::max(by, win.y0); y < std::min(by + kRootBlock, win.y1); ++y) {
+    for (int x = std::max(bx, win.x0); x < std::min(bx + kRootBlock, win.x1); ++x)
+      f(film.index(x, y));
+  }
+}
+
+/// A root block's result as bytes for another process (core/spread.h): its counts, then its
+/// pixels' records. Also returns its evaluations (blocks and pixels), the spread's measure of work.
+std::string pack_root(const Film& film, int bx, int by, const RootCounts& c, std::uint64_t* work) {
+  std::string out;
+  put_bytes(out, c);
+  *work = c.block_evals;
+  for_root_pixels(film, bx, by, [&](std::size_t i) {
+    put_bytes(out, film.color[i]);
+    put_bytes(out, film.certificate[i]);
+    put_bytes(out, film.leaves[i]);
+    put_bytes(out, film.evals[i]);
+    put_bytes(out, film.coverage[i]);
+    *work += film.evals[i];
+  });
+  return out;
+}
+
+/// Stores a root block that pack_root() packed into the film; returns its counts.
+RootCounts unpack_root(Film& film, int bx, int by, const std::string& in) {
+  std::size_t pos = 0;
+  const RootCounts c = take_bytes<RootCounts>(in, pos);
+  for_root_pixels(film, bx, by, [&](std::size_t i) {
+    film.color[i] = take_bytes<Rgb>(in, pos);
+    film.certificate[i] = take_bytes<PixelCertificate>(in, pos);
+    film.leaves[i] = take_bytes<std::uint32_t>(in, pos);
+    film.evals[i] = take_bytes<std::uint32_t>(in, pos);
+    film.coverage[i] = take_bytes<float>(in, pos);
+  });
+  IAA_CHECK(pos == in.size());
+  return c;
+}
+
+/// Renders the root blocks that `spread` hands to this process with its threads, then takes the
+/// other processes' blocks from it: afterwards the film and `counts` hold every block.
+void render_spread(const RenderSetup& setup, Film& film,
+                   const std::vector<std::pair<int, int>>& roots, std::vector<RootCounts>& counts,
+                   const ProgressPhase& phase, const Exec& exec) {
+  Spread& spread = *exec.spread;
+  spread.begin(roots.size(), &phase);
+  std::vector<char> mine(roots.size(), 0);
+  const int threads = exec.resolved_threads();
+  exec.run([&] {
+    tbb::parallel_for(0, threads, [&](int) {
+      RoundingScope scope;
+      RenderContext ctx(setup);
+      for (std::int64_t i = spread.next(); i >= 0; i = spread.next()) {
+        const auto k = static_cast<std::size_t>(i);
+        counts[k] = render_root(ctx, film, roots[k].first, roots[k].second);
+        mine[k] = 1;
+        phase.advance(1);
+      }
+    });
+  });
+  std::vector<std::string> results(roots.size());
+  std::vector<std::uint64_t> work(roots.size(), 0);
+  for (std::size_t k = 0; k < roots.size(); ++k) {
+    if (mine[k]) results[k] = pack_root(film, roots[k].first, roots[k].second, counts[k], &work[k]);
+  }
+  film.balance = spread.finish(results, work);
+  for (std::size_t k = 0; k < roots.size(); ++k) {
+    if (!mine[k]) counts[k] = unpack_root(film, roots[k].first, roots[k].second, results[k]);
+  }
+}
+
 /// Sums the per-pixel records of the window into film.stats, in a fixed order so that the
 /// totals do not depend on the threads.
 void sum_pixel_stats(Film& film) {
@@ -252,17 +327,23 @@ Film render(const Scene& scene, const RenderSettings& settings, const Exec& exec
   const std::vector<std::pair<int, int>> roots = root_blocks(film.window);
   std::vector<RootCounts> counts(roots.size());
   ProgressPhase phase(exec.progress, "render", static_cast<std::uint64_t>(roots.size()));
-  const auto run_roots = [&](const tbb::blocked_range<std::size_t>& br) {
-    RoundingScope scope;  // once per task, not per operation
-    RenderContext ctx(setup);
-    for (std::size_t i = br.begin(); i != br.end(); ++i) {
-      if (phase.cancelled()) return;
-      counts[i] = render_root(ctx, film, roots[i].first, roots[i].second);
-      phase.advance(1);
-    }
-  };
-  exec.run(
-      [&] { tbb::parallel_for(tbb::blocked_range<std::size_t>(0, roots.size(), 1), run_roots); });
+  if (exec.spread) {
+    // Shared with other processes: every block is rendered (cancellation is not checked, since
+    // the other processes wait for this one's blocks).
+    render_spread(setup, film, roots, counts, phase, exec);
+  } else {
+    const auto run_roots = [&](const tbb::blocked_range<std::size_t>& br) {
+      RoundingScope scope;  // once per task, not per operation
+      RenderContext ctx(setup);
+      for (std::size_t i = br.begin(); i != br.end(); ++i) {
+        if (phase.cancelled()) return;
+        counts[i] = render_root(ctx, film, roots[i].first, roots[i].second);
+        phase.advance(1);
+      }
+    };
+    exec.run(
+        [&] { tbb::parallel_for(tbb::blocked_range<std::size_t>(0, roots.size(), 1), run_roots); });
+  }
 
   // Totals, in a fixed order so that they do not depend on the threads.
   FilmStats& s = film.stats;
