@@ -8,7 +8,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${IAA_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 if [ ! -f "$build/CMakeCache.txt" ]; then
   CC=clang-14 CXX=clang++-14 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DIAA_FUZZ=ON -DIAA_WITH_CGAL=OFF -DIAA_WITH_OPENMESH=OFF -DIAA_WITH_VTK=OFF \
+    -DIAA_FUZZ=ON -DIAA_WITH_CGAL=OFF -DIAA_WITH_OPENMESH=OFF -DIAA_WITH_VTK=OFF -DIAA_WITH_MPI=OFF \
     -DIAA_BUILD_BENCH=OFF >/dev/null
 fi
 cmake --build "$build" -j "${IAA_JOBS:-$(nproc)}" --target "$@"

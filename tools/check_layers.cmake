@@ -3,7 +3,8 @@
 # Fails, listing every offending line, when
 #   - a file of libiaa/<module>/ includes a header of a module <module> does not depend on;
 #   - a file of viz/ includes a header of tools/ (viz sits below the tools, beside them);
-#   - a VTK header is included outside viz/, or a CGAL or OpenMesh header outside libiaa/mesh/.
+#   - a VTK header is included outside viz/, or a CGAL or OpenMesh header outside libiaa/mesh/;
+#   - <mpi.h> is included outside libiaa/dist/.
 # Tests are not checked: a test may reach into any module.
 cmake_minimum_required(VERSION 3.22)
 if(NOT ROOT OR NOT LAYERS)
@@ -54,6 +55,8 @@ foreach(file ${files})
       string(APPEND errors "${file}: VTK is used only in viz/: ${line}\n")
     elseif(line MATCHES "include[ \t]*<(CGAL|OpenMesh)/" AND NOT area STREQUAL "mesh")
       string(APPEND errors "${file}: CGAL and OpenMesh are used only in libiaa/mesh/: ${line}\n")
+    elseif(line MATCHES "include[ \t]*<mpi[.]h>" AND NOT area STREQUAL "dist")
+      string(APPEND errors "${file}: MPI is used only in libiaa/dist/: ${line}\n")
     endif()
   endforeach()
 endforeach()

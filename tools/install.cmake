@@ -12,11 +12,13 @@ set(IAA_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/iaa)
 set_target_properties(iaa PROPERTIES EXPORT_NAME iaa)
 set_target_properties(iaa_options PROPERTIES EXPORT_NAME options)
 get_property(iaa_module_targets GLOBAL PROPERTY IAA_MODULES)  # core ... compare, app
+# dist (MPI, for the iaa command under mpirun) is not part of the installed library.
+list(REMOVE_ITEM iaa_module_targets dist)
 list(TRANSFORM iaa_module_targets PREPEND iaa_)
 install(TARGETS iaa iaa_options ${iaa_module_targets} EXPORT iaaTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/libiaa/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/iaa
-  COMPONENT dev FILES_MATCHING PATTERN "*.h")
+  COMPONENT dev FILES_MATCHING PATTERN "*.h" PATTERN dist EXCLUDE)
 install(EXPORT iaaTargets NAMESPACE iaa:: DESTINATION ${IAA_CMAKE_DIR} COMPONENT dev)
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/iaaConfig.cmake.in
   ${CMAKE_BINARY_DIR}/iaaConfig.cmake INSTALL_DESTINATION ${IAA_CMAKE_DIR})

@@ -8,6 +8,7 @@ packages=(
   libboost-dev libtbb-dev libgtest-dev libbenchmark-dev
   libpng-dev libcli11-dev nlohmann-json3-dev libtomlplusplus-dev
   libcgal-dev libgmp-dev libmpfr-dev libopenmesh-dev libvtk9-dev
+  openmpi-bin libopenmpi-dev
   xvfb xauth libgl1-mesa-dri
   clang-14 libclang-rt-14-dev
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib python3-pil

@@ -1,6 +1,8 @@
 // The enclosure octree as `iaa enclose` runs it (enclosing.h).
 #include "app/enclosing.h"
 
+#include "app/balance.h"
+
 #include <cmath>
 #include <cstdio>
 #include <utility>
@@ -102,6 +104,7 @@ nlohmann::json enclose_report_json(const std::string& expression, const EncloseS
   j["corner_evaluations"] = enc.corner_evaluations;
   j["expansion_signs"] = enc.expansion_signs;
   j["time_s"] = {{"enclose", t.enclose}, {"write", t.write}};
+  if (!enc.balance.ranks.empty()) j["mpi"] = balance_json(enc.balance);
   return j;
 }
 

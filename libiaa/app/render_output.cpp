@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "app/balance.h"
 #include "app/render_flags.h"
 
 namespace iaa::app {
@@ -100,6 +101,7 @@ nlohmann::json render_report_json(const Scene& scene, const Film& f, int threads
                       {"per_pixel", double(f.stats.evals) / px}};
   j["leaves"] = {{"total", f.stats.leaves}, {"per_pixel", double(f.stats.leaves) / px}};
   j["covered_fraction"] = f.stats.covered_area / px;
+  if (!f.balance.ranks.empty()) j["mpi"] = balance_json(f.balance);
   return j;
 }
 

@@ -30,7 +30,8 @@ std::vector<std::pair<std::string, Image8>> aov_images(const Film& film);
 void write_aovs(const Film& film, const std::string& dir);
 
 /// The JSON report of `iaa render --report`: scene, size, window, settings, threads, time, pixel
-/// certificates, evaluations, leaves and covered fraction.
+/// certificates, evaluations, leaves and covered fraction; under mpirun also "mpi", the load
+/// balance (app/balance.h).
 nlohmann::json render_report_json(const Scene& scene, const Film& film, int threads);
 
 }  // namespace iaa::app

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A command that needs a library this build left out (IAA_WITH_CGAL / IAA_WITH_OPENMESH /
-# IAA_WITH_VTK=OFF) fails with exit status 1, one message naming the option, and no file.
+# IAA_WITH_VTK / IAA_WITH_MPI=OFF) fails with exit status 1, one message naming the option, and no file.
 # Which libraries are out is read from the build's CMakeCache.txt (next to bin/), not guessed from
 # the binary's behaviour; in a full build there is nothing to check. tools/test.sh runs it on the
 # clang build with all three off. $1 = bin directory, $2 = source directory.
@@ -10,8 +10,8 @@ src="$2"
 cache="$bin/../CMakeCache.txt"
 [[ -f "$cache" ]] || { echo "FAIL: no CMakeCache.txt next to $bin"; exit 1; }
 off() { grep -q "^$1:BOOL=OFF$" "$cache"; }
-if ! off IAA_WITH_CGAL && ! off IAA_WITH_OPENMESH && ! off IAA_WITH_VTK; then
-  echo "disabled_cli: nothing to check (CGAL, OpenMesh and VTK are all in this build)"
+if ! off IAA_WITH_CGAL && ! off IAA_WITH_OPENMESH && ! off IAA_WITH_VTK && ! off IAA_WITH_MPI; then
+  echo "disabled_cli: nothing to check (CGAL, OpenMesh, VTK and MPI are all in this build)"
   exit 0
 fi
 tmp="$(mktemp -d)"
@@ -55,6 +55,20 @@ if off IAA_WITH_OPENMESH; then
   expect_disabled IAA_WITH_OPENMESH compare "$src/data/scenes/teardrop.toml" \
     --mesh "$src/none.ply" -o "$tmp/out/d.png"
   checked=$((checked + 2))
+fi
+if off IAA_WITH_MPI; then
+  # Started by mpirun (as its environment says) without MPI: refused rather than run N times.
+  mkdir -p "$tmp/out"
+  OMPI_COMM_WORLD_SIZE=2 OMPI_COMM_WORLD_RANK=0 "$bin/iaa" render \
+    "$src/data/scenes/teardrop.toml" -o "$tmp/out/a.png" > "$tmp/stdout" 2> "$tmp/stderr"
+  rc=$?
+  if [[ $rc -ne 1 ]] || ! grep -q "IAA_WITH_MPI=OFF" "$tmp/stderr" ||
+    [[ $(wc -l < "$tmp/stderr") -ne 1 ]] || [[ -n "$(ls -A "$tmp/out")" ]]; then
+    echo "FAIL (rc=$rc): iaa render under mpirun without MPI -> $(cat "$tmp/stderr")"
+    fail=1
+  fi
+  rm -rf "$tmp/out"
+  checked=$((checked + 1))
 fi
 
 # The rest of the tool still works in this build: the failures above are the options', not a

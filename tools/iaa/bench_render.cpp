@@ -1,13 +1,19 @@
 // `iaa bench render`: IAA against the point-sampled baselines on the paper's five scenes (or every
 // scene of the directory with --all), in one process: time (median of runs), interval evaluations
 // and leaves per pixel, the iaa/adaptive ratios, and quality against a `grid 16` reference (RMSE,
-// missed and spurious pixels).
+// missed and spurious pixels). With --mpi N: `mpirun -np N iaa render` on each scene against one
+// process with N times the threads: times, the load balance, and whether the images are the same.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iterator>
 #include <memory>
+#include <thread>
+
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -34,6 +40,7 @@ struct BenchRenderOptions {
   std::string json;
   std::vector<std::string> sets;
   RenderFlags flags;
+  int mpi = 0;  ///< processes of the --mpi comparison (0: the usual benchmark)
 };
 
 /// a / b as JSON, null when b is 0 (no baseline to compare with).
@@ -204,10 +211,118 @@ std::vector<std::string> all_scene_names(const std::string& dir) {
   return names;
 }
 
+/// The text between single quotes for a POSIX shell.
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// What one `iaa render` run of the --mpi comparison gave: wall time of the whole command (MPI's
+/// start included), the render's own time from its report, and the report.
+struct RenderRun {
+  double wall_s = 0;
+  double render_s = 0;
+  nlohmann::json report;
+};
+
+/// Runs `prefix iaa render SCENE ...` through the shell and reads its report back.
+RenderRun run_render(const std::string& prefix, const std::string& scene_path,
+                     const BenchRenderOptions& o, int threads, const std::string& png,
+                     const std::string& report) {
+  std::string cmd = prefix + shell_quote(std::filesystem::read_symlink("/proc/self/exe").string()) +
+                    " render " + shell_quote(scene_path) + " -q -o " + shell_quote(png) +
+                    " --report " + shell_quote(report) + " --threads " + std::to_string(threads) +
+                    " --set image.width=" + std::to_string(o.size) +
+                    " --set image.height=" + std::to_string(o.size);
+  for (const std::string& set : o.sets) cmd += " --set " + shell_quote(set);
+  const auto t0 = std::chrono::steady_clock::now();
+  const int rc = std::system(cmd.c_str());
+  RenderRun r;
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (rc != 0) throw Error("--mpi: this command failed: " + cmd);
+  r.report = nlohmann::json::parse(app::read_file(report));
+  r.render_s = r.report.at("seconds").get<double>();
+  return r;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+/// --mpi N: each scene rendered (IAA, the scene's settings and --set) by `mpirun -np N` with
+/// --threads T (1 when not given) and by one process with N * T threads, taking turns `runs`
+/// times; prints the medians, the balance of the last MPI run and whether the images are equal.
+void run_mpi(const BenchRenderOptions& o, const std::string& dir,
+             const std::vector<std::string>& scenes) {
+  if (o.mpi < 2 || o.mpi > 256) throw SettingError("--mpi must be in [2, 256] processes");
+  const int threads = o.threads > 0 ? o.threads : 1;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  std::string mpirun = "mpirun -np " + std::to_string(o.mpi) + " ";
+  if (unsigned(o.mpi) * unsigned(threads) > cores) mpirun += "--oversubscribe ";
+  const std::filesystem::path tmp =
+      std::filesystem::temp_directory_path() / ("iaa-bench-mpi-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(tmp);
+  std::printf(
+      "iaa bench render --mpi: %dx%d, mpirun -np %d --threads %d against one process with %d "
+      "threads, median of %d runs (%u cores)\n\n",
+      o.size, o.size, o.mpi, threads, o.mpi * threads, o.runs, cores);
+  std::printf("%-11s %10s %10s %8s %10s %10s %9s %11s %6s\n", "scene", "mpi s", "one s", "mpi/one",
+              "mpi wall", "one wall", "max/mean", "max idle s", "same");
+  nlohmann::json out = nlohmann::json::array();
+  for (const std::string& name : scenes) {
+    const std::string path = dir + "/" + name + ".toml";
+    std::vector<double> mpi_s, one_s, mpi_wall, one_wall;
+    RenderRun last_mpi, last_one;
+    for (int r = 0; r < o.runs; ++r) {
+      last_mpi = run_render(mpirun, path, o, threads, (tmp / "mpi.png").string(),
+                            (tmp / "mpi.json").string());
+      last_one = run_render("", path, o, o.mpi * threads, (tmp / "one.png").string(),
+                            (tmp / "one.json").string());
+      mpi_s.push_back(last_mpi.render_s);
+      one_s.push_back(last_one.render_s);
+      mpi_wall.push_back(last_mpi.wall_s);
+      one_wall.push_back(last_one.wall_s);
+    }
+    const bool same =
+        app::read_file((tmp / "mpi.png").string()) == app::read_file((tmp / "one.png").string());
+    const nlohmann::json& bal = last_mpi.report.at("mpi");
+    double idle = 0;
+    for (const auto& rk : bal.at("ranks"))
+      idle = std::max(idle, rk.at("idle_seconds").get<double>());
+    const double ratio = bal.at("max_over_mean_evaluations").get<double>();
+    std::printf("%-11s %10.3f %10.3f %7.2fx %10.3f %10.3f %9.3f %11.3f %6s\n", name.c_str(),
+                median(mpi_s), median(one_s), median(mpi_s) / median(one_s), median(mpi_wall),
+                median(one_wall), ratio, idle, same ? "yes" : "NO");
+    std::fflush(stdout);
+    out.push_back({{"scene", name},
+                   {"processes", o.mpi},
+                   {"threads_per_process", threads},
+                   {"mpi_render_seconds", median(mpi_s)},
+                   {"one_process_render_seconds", median(one_s)},
+                   {"mpi_wall_seconds", median(mpi_wall)},
+                   {"one_process_wall_seconds", median(one_wall)},
+                   {"max_over_mean_evaluations", ratio},
+                   {"max_idle_seconds", idle},
+                   {"balance", bal},
+                   {"same_image", same}});
+    if (!same) std::fprintf(stderr, "iaa bench render: %s: the images differ\n", name.c_str());
+  }
+  std::filesystem::remove_all(tmp);
+  std::printf(
+      "\nmpi s, one s: render() time in the report (rank 0's, the gathering included); wall: the\n"
+      "whole command, MPI's start-up included. max/mean: evaluations of the busiest process over\n"
+      "the mean; max idle: the longest a process waited for the others. same: the PNGs are "
+      "equal.\n");
+  if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
+}
+
 void run(const BenchRenderOptions& o) {
   check_options(o);
   const std::string dir = find_scene_dir(o.dir);
   const std::vector<std::string> scenes = o.all ? all_scene_names(dir) : o.scenes;
+  if (o.mpi) return run_mpi(o, dir, scenes);
   Exec exec;
   exec.threads = o.threads;
   nlohmann::json out = nlohmann::json::array();
@@ -242,13 +357,19 @@ void setup(CLI::App& app) {
   app.add_option("--set", o->sets, "override a scene key for every scene, KEY=VALUE (repeatable)");
   add_render_flags(app, &o->flags, 0);
   app.add_option("--json", o->json, "also write the table as JSON");
+  app.add_option("--mpi", o->mpi,
+                 "instead: mpirun -np N iaa render (IAA, --threads per process, 1 by default) "
+                 "against one process with N times the threads: times, load balance, same image");
   app.footer(
       "Examples:\n"
       "  iaa bench render\n"
       "  iaa bench render --all --runs 5 --json all.json\n"
       "  iaa bench render --scenes teardrop --size 250 --runs 5 --json bench.json\n"
       "  iaa bench render --scene-dir my/scenes --scenes a b --size 100\n"
-      "  iaa bench render --set render.depth_tolerance=2 --set render.estimator_threshold=0.3");
+      "  iaa bench render --set render.depth_tolerance=2 --set render.estimator_threshold=0.3\n"
+      "  iaa bench render --mpi 2 --threads 1 --runs 5\n"
+      "  iaa bench render --mpi 8 --runs 1 --json balance.json   # --oversubscribe on 2 cores\n"
+      "With --mpi the render flags are not passed on: use --set render.KEY=VALUE.");
   app.callback([o] { run(*o); });
 }
 

@@ -4,19 +4,24 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <functional>
 #include <memory>
 
 #include <nlohmann/json.hpp>
 
+#include "app/balance.h"
 #include "app/enclosing.h"
 #include "app/files.h"
 #include "app/progress_bar.h"
 #include "app/scene_loading.h"
 #include "core/error.h"
+#include "dist/world.h"
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/command.h"
 #ifdef IAA_HAVE_VIZ
+#include "viz/enclosure_pvtu.h"
 #include "viz/enclosure_vtk.h"
 #endif
 
@@ -91,8 +96,9 @@ void check_options(const EncloseOptions& o) {
     throw Error("-o: this iaa was built without VTK (IAA_WITH_VTK=OFF); no .vtu output");
   }
 #endif
-  if (!o.output.empty() && app::extension_of(o.output) != "vtu") {
-    throw Error("-o: the output must be a .vtu file, got '" + o.output + "'");
+  if (!o.output.empty() && app::extension_of(o.output) != "vtu" &&
+      app::extension_of(o.output) != "pvtu") {
+    throw Error("-o: the output must be a .vtu or .pvtu file, got '" + o.output + "'");
   }
   for (const std::string* out : {&o.output, &o.report}) {
     if (!out->empty()) app::check_writable(*out);
@@ -137,6 +143,63 @@ double write_vtu(const std::string& path, const Surface& surface, const EncloseS
   });
   return seconds_since(t0);
 }
+
+/// Writes the boxes as a .pvtu and one .vtu piece per process (viz/enclosure_pvtu.h), in a
+/// temporary directory beside `path` that the lead then empties into place, the .pvtu last: a
+/// failed run leaves no file, and the .pvtu never names a missing piece. Every process calls it
+/// (it agrees with the others twice); returns the seconds it took.
+double write_pvtu(const std::string& path, const Surface& surface, const EncloseSettings& s,
+                  const Enclosure& enc, dist::World* world) {
+  namespace fs = std::filesystem;
+  const auto t0 = std::chrono::steady_clock::now();
+  const int pieces = world ? world->size() : 1, piece = world ? world->rank() : 0;
+  const bool lead = piece == 0;
+  const fs::path target(path);
+  const fs::path tmp = target.parent_path() / ("." + target.filename().string() + ".parts");
+  // Runs step() on this process, then learns whether it went well on every process; an error
+  // stops all of them (each one that failed says why, the others say where).
+  const auto step = [&](const std::function<void()>& f, const std::string& where) {
+    std::string error;
+    try {
+      f();
+    } catch (const Error& e) {
+      error = e.what();
+    } catch (const fs::filesystem_error& e) {
+      error = e.what();
+    }
+    const bool ok = error.empty();
+    const bool all_ok = world ? world->agree(ok).all_ok : ok;
+    if (all_ok) return;
+    if (lead) {
+      std::error_code ec;
+      fs::remove_all(tmp, ec);
+    }
+    throw Error(ok ? "-o: another process failed to write " + where + " of '" + path + "'"
+                   : "-o: " + error);
+  };
+  step(
+      [&] {
+        if (!lead) return;
+        fs::remove_all(tmp);
+        fs::create_directory(tmp);
+      },
+      "the directory for the pieces");
+  const std::string tmp_pvtu = (tmp / target.filename()).string();
+  step(
+      [&] {
+        viz::write_enclosure_pvtu(tmp_pvtu, enc, viz::EnclosureInfo{surface.expression, s}, piece,
+                                  pieces, lead);
+      },
+      "its piece");
+  if (lead) {
+    const auto from = viz::pvtu_piece_paths(tmp_pvtu, pieces);
+    const auto to = viz::pvtu_piece_paths(path, pieces);
+    for (std::size_t k = 0; k < from.size(); ++k) fs::rename(from[k], to[k]);
+    fs::rename(tmp_pvtu, path);
+    fs::remove(tmp);
+  }
+  return seconds_since(t0);
+}
 #endif
 
 /// The summary on stdout: the surface, the settings, the boxes per class (and per depth when
@@ -172,6 +235,8 @@ void print_summary(const EncloseOptions& o, const Surface& surface, const Enclos
   std::printf("time         %.3f s enclose", t.enclose);
   if (!o.output.empty()) std::printf(", %.3f s write", t.write);
   std::printf(" (%d threads)\n", threads);
+  if (!enc.balance.ranks.empty())
+    std::printf("MPI          %s\n", app::balance_summary(enc.balance).c_str());
   if (enc.cells.empty()) {
     std::printf(
         "result       certified empty: 0 is outside F on every cell, so f = 0 has no point "
@@ -193,18 +258,30 @@ void run(const EncloseOptions& o) {
   check_options(o);
   const Surface surface = load_surface(o);
   const EncloseSettings s = app::enclose_settings(surface.bounds, o.octree);
+  // Under mpirun every process encloses a share of the subtrees and holds the whole enclosure;
+  // the lead writes (a .pvtu: every process writes a piece).
+  dist::World* world = dist::World::current();
+  const bool lead = !world || world->lead();
+  if (world) world->agree_input();
   // The bar lives until the end: the .vtu write reports to it as well.
-  app::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet || !lead);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
+  const std::unique_ptr<Spread> spread = world ? world->spread() : nullptr;
+  exec.spread = spread.get();
   app::EncloseTimes t;
   const auto t0 = std::chrono::steady_clock::now();
   const Enclosure enc = app::run_enclose(*surface.tape, s, exec);
   t.enclose = seconds_since(t0);
 #ifdef IAA_HAVE_VIZ
-  if (!o.output.empty()) t.write = write_vtu(o.output, surface, s, enc, exec, &bar);
+  if (!o.output.empty() && app::extension_of(o.output) == "pvtu") {
+    t.write = write_pvtu(o.output, surface, s, enc, world);
+  } else if (!o.output.empty() && lead) {
+    t.write = write_vtu(o.output, surface, s, enc, exec, &bar);
+  }
 #endif
+  if (!lead) return;
   print_summary(o, surface, s, enc, t, exec.resolved_threads());
   if (!o.report.empty()) write_report(o, surface, s, enc, t, exec.resolved_threads());
 }
@@ -234,11 +311,13 @@ void setup(CLI::App& app) {
                  "fail (with no output) when more leaves than this are needed")
       ->capture_default_str();
   app.add_option("-o,--output", o->output,
-                 "write the boxes as a .vtu (VTK unstructured grid of voxels)");
+                 "write the boxes as a .vtu (VTK unstructured grid of voxels), or as a .pvtu "
+                 "with one .vtu piece per process (BASE_K.vtu beside it)");
   app.add_option("--report", o->report,
                  "write counts per class and depth, evaluations and time as JSON");
   app.add_option("-t,--threads", o->threads,
-                 "worker threads (0: all); the result does not depend on it")
+                 "worker threads (0: all; per process under mpirun); the result does not depend "
+                 "on it")
       ->capture_default_str();
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.footer(
@@ -248,7 +327,10 @@ void setup(CLI::App& app) {
       "Examples:\n"
       "  iaa enclose data/scenes/teardrop.toml --depth 7 --refine-possible 3 -o teardrop.vtu\n"
       "  iaa enclose data/scenes/chubs.toml --cell-size 0.01 --report chubs.json -o chubs.vtu\n"
-      "  iaa enclose --expr 'x^2 + y^2 + z^2 - r^2' -p r=0.5 --bounds -1:1,-1:1,-1:1 -d 5");
+      "  iaa enclose --expr 'x^2 + y^2 + z^2 - r^2' -p r=0.5 --bounds -1:1,-1:1,-1:1 -d 5\n"
+      "  mpirun -np 4 iaa enclose data/scenes/chubs.toml -d 9 -t 1 -o chubs.pvtu\n"
+      "Under mpirun the processes share the octree's subtrees; the boxes are the same as one\n"
+      "process's, the report adds the load balance (docs/distributed.md).");
   app.callback([o, depth, cell_size] {
     o->octree.depth_given = depth->count() > 0;
     o->octree.cell_size_given = cell_size->count() > 0;
@@ -258,7 +340,7 @@ void setup(CLI::App& app) {
 
 CommandRegistrar reg{{"enclose",
                       "boxes that provably contain the whole surface (interval octree, .vtu)", 30,
-                      setup}};
+                      setup, true}};
 
 }  // namespace
 }  // namespace iaa::cli

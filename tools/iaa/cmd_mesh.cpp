@@ -8,6 +8,7 @@
 #include "app/files.h"
 #include "app/progress_bar.h"
 #include "core/error.h"
+#include "dist/world.h"
 #include "iaa/command.h"
 #include "iaa/mesh_common.h"
 #include "mesh/mesh_io.h"
@@ -167,11 +168,18 @@ void run(const MeshOptions& o) {
   const meshing::Surface surface =
       meshing::load_surface(o.scene, o.expr, o.bounds, o.params, o.sets);
   o.p.validate();
+  // Under mpirun the enclosures (the octree mesher's, the report's check) are shared by the
+  // processes; every process then meshes the same and the lead writes (docs/distributed.md).
+  dist::World* world = dist::World::current();
+  const bool lead = !world || world->lead();
+  if (world) world->agree_input();
 
-  app::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet || !lead);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
+  const std::unique_ptr<Spread> spread = world ? world->spread() : nullptr;
+  exec.spread = spread.get();
   meshing::MeshRun run = meshing::run_mesher(method, surface, o.p, exec);
   check_found_surface(run, method);
   // One OpenMesh TriMesh (double points) from here on: the report is computed on it and the file
@@ -180,12 +188,13 @@ void run(const MeshOptions& o) {
   const Mesh mesh = Mesh::from_triangles(run.soup);
   run.soup = {};
   const std::size_t duplicated = mesh.duplicated_vertices();
-  write_files(o, format, mesh, run, surface);
+  if (lead) write_files(o, format, mesh, run, surface);
   // The TriMesh as plain triangles (vertex copies merged back) once, for the report and the
   // self-intersection count.
   const TriangleSoup soup = mesh.triangles();
   const MeshReport rep = analyze(o, method, surface, soup, mesh.precision(), run, exec);
   bar.finish();
+  if (!lead) return;
 
   print_summary(o, method, surface, run, rep, duplicated);
   if (!o.report.empty()) write_report(o, method, format, surface, run, rep, soup, duplicated);
@@ -241,7 +250,8 @@ void setup(CLI::App& app) {
   app.add_option("--facet-angle", o->p.facet_angle, "cgal: minimum facet angle, degrees")
       ->capture_default_str();
   app.add_option("--grid", o->p.grid, "vtk: grid cells per axis (overrides --resolution)");
-  app.add_option("--threads", o->threads, "worker threads, 0 = all")->capture_default_str();
+  app.add_option("--threads", o->threads, "worker threads, 0 = all (per process under mpirun)")
+      ->capture_default_str();
   app.add_flag("-q,--quiet", o->quiet, "no progress bar");
   app.footer(
       "Examples:\n"
@@ -256,12 +266,14 @@ void setup(CLI::App& app) {
       "default) the mesh is isotopic to the surface inside the certified cells; cells that reach\n"
       "--max-depth without a certificate are meshed best-effort, counted, and written by\n"
       "--uncertified. With --method octree, leaves that may hold surface but show no sign change\n"
-      "are counted, never dropped silently.");
+      "are counted, never dropped silently.\n"
+      "Under mpirun (mpirun -np 4 iaa mesh ... --method octree --threads 1) the processes share\n"
+      "the octree's subtrees; the mesh and report are one process's (docs/distributed.md).");
   app.callback([o] { run(*o); });
 }
 
 CommandRegistrar reg{
-    {"mesh", "mesh a surface (certified, octree, cgal, vtk) to PLY/OBJ/OFF/STL", 40, setup}};
+    {"mesh", "mesh a surface (certified, octree, cgal, vtk) to PLY/OBJ/OFF/STL", 40, setup, true}};
 
 }  // namespace
 }  // namespace iaa::cli

@@ -6,12 +6,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/balance.h"
 #include "app/files.h"
 #include "app/png.h"
 #include "app/progress_bar.h"
 #include "app/render_output.h"
 #include "app/scene_loading.h"
 #include "core/error.h"
+#include "dist/world.h"
 #include "iaa/command.h"
 #include "iaa/render_flags.h"
 #include "render/render.h"
@@ -45,6 +47,8 @@ void print_summary(const RenderOptions& o, const Scene& scene, const Film& film,
   std::printf(
       "  interval evaluations: %.1f per pixel (%llu on screen blocks); leaves: %.2f per pixel\n",
       double(s.evals) / px, (unsigned long long)s.block_evals, double(s.leaves) / px);
+  if (!film.balance.ranks.empty())
+    std::printf("  MPI: %s\n", app::balance_summary(film.balance).c_str());
   std::printf("  wrote %s%s%s\n", o.out.c_str(),
               o.aov.empty() ? "" : (", AOVs in " + o.aov).c_str(),
               o.report.empty() ? "" : (", report " + o.report).c_str());
@@ -59,17 +63,28 @@ void run(const RenderOptions& o) {
     throw SettingError("--threads must be in [0, 1024] (0 = all cores)");
   if (app::extension_of(o.out) != "png")
     throw Error("-o: the image must be a .png file, got '" + o.out + "'");
-  if (!o.aov.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.aov, ec);
-    if (ec) throw Error("--aov: cannot create directory '" + o.aov + "': " + ec.message());
+  // Under mpirun every process renders a share and holds the whole film; the lead writes.
+  dist::World* world = dist::World::current();
+  const bool lead = !world || world->lead();
+  if (lead) {
+    app::check_writable(o.out, "-o: ");
+    if (!o.aov.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(o.aov, ec);
+      if (ec) throw Error("--aov: cannot create directory '" + o.aov + "': " + ec.message());
+    }
+    if (!o.report.empty()) app::check_writable(o.report, "--report: ");
   }
+  if (world) world->agree_input();
 
-  app::ProgressBar bar(o.quiet);
+  app::ProgressBar bar(o.quiet || !lead);
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
+  const std::unique_ptr<Spread> spread = world ? world->spread() : nullptr;
+  exec.spread = spread.get();
   const Film film = render(scene, st, exec);
+  if (!lead) return;
 
   app::write_png(o.out, app::color_image(film));
   if (!o.aov.empty()) app::write_aovs(film, o.aov);
@@ -84,7 +99,8 @@ void setup(CLI::App& app) {
   app.add_option("-o,--output", o->out, "output image (.png)")->required();
   add_render_flags(app, &o->flags, kMethodFlag | kImageSizeFlags | kWindowFlag);
   app.add_option("--threads", o->threads,
-                 "worker threads (0 = all cores); the image does not depend on it");
+                 "worker threads (0 = all cores; per process under mpirun); the image does not "
+                 "depend on it");
   app.add_option(
       "--aov", o->aov,
       "write certificate.png, coverage.png, leaves.png and evals.png into this directory");
@@ -99,13 +115,16 @@ void setup(CLI::App& app) {
       "  iaa render data/scenes/teardrop.toml -o neck.png --window 200,200,300,260 --method 'grid "
       "16'\n"
       "  iaa render data/scenes/blobby.toml -o b.png --set camera.fov=30 --set render.max_level=3\n"
+      "  mpirun -np 4 iaa render data/scenes/chubs.toml -o chubs.png --threads 1 --report r.json\n"
+      "Under mpirun the processes share the image's 32x32 blocks; the outputs are the same bytes\n"
+      "as one process's, the report adds the load balance (docs/distributed.md).\n"
       "Certificate colours: light grey = certified empty, green = certified covered, orange =\n"
       "uncertain (shaded conservatively). See docs/render.md.");
   app.callback([o] { run(*o); });
 }
 
 CommandRegistrar reg{
-    {"render", "render a scene: IAA (certified) or point/grid/adaptive sampling", 20, setup}};
+    {"render", "render a scene: IAA (certified) or point/grid/adaptive sampling", 20, setup, true}};
 
 }  // namespace
 }  // namespace iaa::cli

@@ -1,7 +1,8 @@
 // Subcommand registry of the `iaa` tool. Each subcommand lives in its own cmd_*.cpp and registers
 // itself with a static `CommandRegistrar`; main() builds the CLI from the registry. A subcommand's
 // setup function adds its options to its CLI11 sub-app and sets the callback that runs it. The
-// callback throws iaa::Error for bad input; main turns that into a message and exit code 1.
+// callback throws iaa::Error for bad input; main turns that into a message and exit code 1 (under
+// mpirun, on every process, with the message printed once: dist/world.h).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -21,6 +22,10 @@ struct Command {
   std::string summary;
   int order;  ///< position in `iaa --help`
   std::function<void(CLI::App&)> setup;
+  /// Runs under `mpirun -np N` with N > 1, sharing its work (docs/distributed.md). Such a command
+  /// calls dist::World::agree_input() once after checking its input, and writes its files on the
+  /// lead process only.
+  bool mpi = false;
 };
 
 std::vector<Command>& commands();

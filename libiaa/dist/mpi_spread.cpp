@@ -1,0 +1,171 @@
+// dist/mpi_spread.h.
+#include "dist/mpi_spread.h"
+
+#include <mpi.h>
+
+#include <chrono>
+
+#include "core/error.h"
+#include "core/exec.h"
+#include "dist/mpi_util.h"
+
+namespace iaa::dist {
+
+namespace {
+
+constexpr int kRequestTag = 101;  // rank > 0 to rank 0: "one more item, please" (+ 1 done or 0)
+constexpr int kReplyTag = 102;    // rank 0 to rank > 0: the item, or -1
+constexpr int kResultsTag = 103;  // rank > 0 to rank 0: its items' results at the end of a loop
+
+/// Which loop a thread last asked in, so that its next request can say it finished an item. Loop
+/// numbers are unique in the process, so one per thread is enough.
+std::atomic<std::uint64_t> g_loops{0};
+thread_local std::uint64_t t_loop = 0;
+
+}  // namespace
+
+MpiSpread::MpiSpread(World& world) : world_(world) {
+  IAA_CHECK(world.active());
+}
+
+MpiSpread::~MpiSpread() {
+  if (server_.joinable()) server_.join();
+}
+
+void MpiSpread::begin(std::uint64_t items, const ProgressPhase* phase) {
+  IAA_CHECK(!server_.joinable());
+  items_ = items;
+  phase_ = phase;
+  next_item_ = 0;
+  exhausted_ = false;
+  loop_ = ++g_loops;
+  owner_.assign(world_.rank() == 0 ? items : 0, -1);
+  start_ = MPI_Wtime();
+  last_done_ = 0;
+  if (world_.rank() == 0 && world_.size() > 1) server_ = std::thread([this] { serve(); });
+}
+
+std::int64_t MpiSpread::take(int rank) {
+  if (next_item_ >= items_) return -1;
+  owner_[next_item_] = rank;
+  return static_cast<std::int64_t>(next_item_++);
+}
+
+std::int64_t MpiSpread::next() {
+  // A thread's request after its first in this loop means it finished an item.
+  const bool finished_one = t_loop == loop_;
+  t_loop = loop_;
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::int64_t item = -1;
+  if (world_.rank() == 0) {
+    item = take(0);
+  } else if (!exhausted_) {
+    std::int64_t done = finished_one ? 1 : 0;
+    mpi_check(MPI_Send(&done, 1, MPI_INT64_T, 0, kRequestTag, MPI_COMM_WORLD), "MPI_Send");
+    MPI_Request req;
+    mpi_check(MPI_Irecv(&item, 1, MPI_INT64_T, 0, kReplyTag, MPI_COMM_WORLD, &req), "MPI_Irecv");
+    mpi_wait(req);
+    if (item < 0) exhausted_ = true;
+  }
+  if (item < 0) last_done_ = std::max(last_done_, MPI_Wtime() - start_);
+  return item;
+}
+
+void MpiSpread::serve() {
+  int waiting = world_.size() - 1;  // ranks that have not yet been told the loop is over
+  while (waiting > 0) {
+    int flag = 0;
+    MPI_Status st;
+    mpi_check(MPI_Iprobe(MPI_ANY_SOURCE, kRequestTag, MPI_COMM_WORLD, &flag, &st), "MPI_Iprobe");
+    if (!flag) {
+      std::this_thread::sleep_for(std::chrono::microseconds(20));
+      continue;
+    }
+    std::int64_t done = 0;
+    mpi_check(MPI_Recv(&done, 1, MPI_INT64_T, st.MPI_SOURCE, kRequestTag, MPI_COMM_WORLD,
+                       MPI_STATUS_IGNORE),
+              "MPI_Recv");
+    if (done && phase_) phase_->advance(1);
+    std::int64_t item;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      item = take(st.MPI_SOURCE);
+    }
+    mpi_check(MPI_Send(&item, 1, MPI_INT64_T, st.MPI_SOURCE, kReplyTag, MPI_COMM_WORLD),
+              "MPI_Send");
+    if (item < 0) --waiting;
+  }
+}
+
+SpreadBalance MpiSpread::finish(std::vector<std::string>& results,
+                                std::vector<std::uint64_t>& work) {
+  IAA_CHECK(results.size() == items_ && work.size() == items_);
+  const int size = world_.size();
+  std::string all;  // rank 0 to everyone: the balance, then every item's work and result
+  if (world_.rank() != 0) {
+    // This rank's items (those with a result or some work; an item may have an empty result).
+    std::string mine;
+    put_bytes(mine, last_done_);
+    for (std::uint64_t i = 0; i < items_; ++i) {
+      if (results[i].empty() && work[i] == 0) continue;
+      put_bytes(mine, i);
+      put_bytes(mine, work[i]);
+      put_bytes(mine, std::uint64_t(results[i].size()));
+      mine += results[i];
+    }
+    mpi_send_bytes(mine, 0, kResultsTag);
+  } else {
+    if (server_.joinable()) server_.join();
+    std::vector<double> busy(std::size_t(size), 0);
+    busy[0] = last_done_;
+    for (int r = 1; r < size; ++r) {
+      const std::string in = mpi_recv_bytes(r, kResultsTag);
+      std::size_t pos = 0;
+      busy[std::size_t(r)] = take_bytes<double>(in, pos);
+      while (pos < in.size()) {
+        const auto i = take_bytes<std::uint64_t>(in, pos);
+        IAA_CHECK(i < items_ && owner_[i] == r);
+        work[i] = take_bytes<std::uint64_t>(in, pos);
+        const auto n = take_bytes<std::uint64_t>(in, pos);
+        results[i].assign(in, pos, n);
+        pos += n;
+      }
+    }
+    SpreadBalance b;
+    b.ranks.resize(std::size_t(size));
+    double slowest = 0;
+    for (int r = 0; r < size; ++r) slowest = std::max(slowest, busy[std::size_t(r)]);
+    for (int r = 0; r < size; ++r) {
+      b.ranks[std::size_t(r)].busy = busy[std::size_t(r)];
+      b.ranks[std::size_t(r)].idle = slowest - busy[std::size_t(r)];
+    }
+    for (std::uint64_t i = 0; i < items_; ++i) {
+      IAA_CHECK(owner_[i] >= 0);
+      RankLoad& l = b.ranks[std::size_t(owner_[i])];
+      ++l.items;
+      l.work += work[i];
+    }
+    for (const RankLoad& l : b.ranks) put_bytes(all, l);
+    for (std::uint64_t i = 0; i < items_; ++i) {
+      put_bytes(all, work[i]);
+      put_bytes(all, std::uint64_t(results[i].size()));
+      all += results[i];
+    }
+  }
+  mpi_bcast_bytes(all);
+  SpreadBalance b;
+  std::size_t pos = 0;
+  b.ranks.resize(std::size_t(size));
+  for (RankLoad& l : b.ranks) l = take_bytes<RankLoad>(all, pos);
+  if (world_.rank() != 0) {
+    for (std::uint64_t i = 0; i < items_; ++i) {
+      work[i] = take_bytes<std::uint64_t>(all, pos);
+      const auto n = take_bytes<std::uint64_t>(all, pos);
+      results[i].assign(all, pos, n);
+      pos += n;
+    }
+  }
+  return b;
+}
+
+}  // namespace iaa::dist

@@ -1,0 +1,51 @@
+// The MPI implementation of core/spread.h: rank 0 hands out the items of a loop one at a time, on
+// request, because their costs vary by 100x (a root block of background costs one evaluation, one
+// on a silhouette thousands); every rank computes its items with its own threads, and at the end
+// the results are gathered on rank 0 and broadcast, so that every rank holds the whole result.
+//
+// On rank 0 a service thread answers the other ranks' requests while rank 0's own threads work.
+// Every wait polls with short sleeps rather than spinning in MPI, so that a rank waiting for work
+// or for the others does not take a core from ranks that compute (on a shared or oversubscribed
+// node that matters).
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "core/spread.h"
+#include "dist/world.h"
+
+namespace iaa::dist {
+
+class MpiSpread final : public Spread {
+ public:
+  /// A spread over the processes of `world` (which must be active).
+  explicit MpiSpread(World& world);
+  ~MpiSpread() override;
+
+  int size() const override { return world_.size(); }
+  int rank() const override { return world_.rank(); }
+  void begin(std::uint64_t items, const ProgressPhase* phase) override;
+  std::int64_t next() override;
+  SpreadBalance finish(std::vector<std::string>& results,
+                       std::vector<std::uint64_t>& work) override;
+
+ private:
+  void serve();  // rank 0's service thread: answers requests until every rank had its last reply
+  std::int64_t take(int rank);
+
+  World& world_;
+  std::uint64_t items_ = 0;
+  const ProgressPhase* phase_ = nullptr;
+  std::mutex mutex_;  // the next item (rank 0) or the request channel (other ranks)
+  std::uint64_t next_item_ = 0;
+  std::vector<int> owner_;  // rank 0: which rank took each item
+  bool exhausted_ = false;  // this rank was told there is nothing left
+  double start_ = 0;        // MPI_Wtime() at begin()
+  double last_done_ = 0;    // seconds from begin() to this rank's last item's end
+  std::uint64_t loop_ = 0;  // this loop's number (see next())
+  std::thread server_;
+};
+
+}  // namespace iaa::dist

@@ -1,0 +1,2 @@
+// Fixture: MPI outside libiaa/dist/.
+#include <mpi.h>

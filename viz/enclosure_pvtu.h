@@ -1,0 +1,27 @@
+// An Enclosure (libiaa/enclose/octree.h) as a partitioned VTK file: a `.pvtu` summary and one
+// `.vtu` piece per process of a run under mpirun (docs/distributed.md), written through VTK's
+// parallel XML writer (vtkXMLPUnstructuredGridWriter), so that ParaView opens the `.pvtu` as one
+// data set. Each piece holds a contiguous slice of the enclosure's cells in canonical order, with
+// the arrays and field data of viz/enclosure_vtk.h.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "viz/enclosure_vtk.h"
+
+namespace iaa::viz {
+
+/// The file names of an enclosure in `pieces` pieces written as `path` (a .pvtu): the summary
+/// `path` itself, and the pieces `STEM_K.vtu` beside it (STEM is path without its extension).
+std::vector<std::string> pvtu_piece_paths(const std::string& path, int pieces);
+
+/// Writes piece `piece` of `pieces` (cells [piece * N / pieces, (piece + 1) * N / pieces) of the
+/// enclosure) as `STEM_piece.vtu` beside `path`, and also the summary `path`, naming all the
+/// pieces, when `summary`.
+/// Writes directly: the tools write into a temporary directory and move the files. Throws
+/// iaa::Error when VTK fails to write.
+void write_enclosure_pvtu(const std::string& path, const Enclosure& enc, const EnclosureInfo& info,
+                          int piece, int pieces, bool summary);
+
+}  // namespace iaa::viz
