@@ -13,8 +13,8 @@ namespace iaa::dist {
 
 namespace {
 
-constexpr int kRequestTag = 101;  // rank > 0 to rank 0: "one more item, please" (+ 1 done or 0)
-constexpr int kReplyTag = 102;    // rank 0 to rank > 0: the item, or -1
+constexpr int kRequestTag = 101;  // rank > 0 to rank 0: "one more item, please" (+ items done)
+constexpr int kReplyTag = 102;    // rank 0 to rank > 0: first item and count (0: none left)
 constexpr int kResultsTag = 103;  // rank > 0 to rank 0: its items' results at the end of a loop
 
 /// Which loop a thread last asked in, so that its next request can say it finished an item. Loop
@@ -38,6 +38,10 @@ void MpiSpread::begin(std::uint64_t items, const ProgressPhase* phase) {
   phase_ = phase;
   next_item_ = 0;
   exhausted_ = false;
+  ahead_lo_ = ahead_hi_ = 0;
+  pending_ = false;
+  finished_ = 0;
+  remote_done_ = 0;
   loop_ = ++g_loops;
   owner_.assign(world_.rank() == 0 ? items : 0, -1);
   start_ = MPI_Wtime();
@@ -45,27 +49,58 @@ void MpiSpread::begin(std::uint64_t items, const ProgressPhase* phase) {
   if (world_.rank() == 0 && world_.size() > 1) server_ = std::thread([this] { serve(); });
 }
 
-std::int64_t MpiSpread::take(int rank) {
-  if (next_item_ >= items_) return -1;
-  owner_[next_item_] = rank;
-  return static_cast<std::int64_t>(next_item_++);
+std::int64_t MpiSpread::take(int rank, std::uint64_t* count) {
+  const std::uint64_t left = items_ - next_item_;
+  // Guided: a quarter of this rank's share of what is left, at least one. Few requests while
+  // much is left, single items at the end, where the balance is made.
+  const std::uint64_t n =
+      std::min(left, std::max<std::uint64_t>(1, left / (4 * std::uint64_t(world_.size()))));
+  *count = n;
+  if (n == 0) return -1;
+  for (std::uint64_t k = 0; k < n; ++k) owner_[next_item_ + k] = rank;
+  const auto first = static_cast<std::int64_t>(next_item_);
+  next_item_ += n;
+  return first;
+}
+
+void MpiSpread::request() {
+  std::int64_t done = finished_;
+  finished_ = 0;
+  mpi_check(MPI_Send(&done, 1, MPI_INT64_T, 0, kRequestTag, MPI_COMM_WORLD), "MPI_Send");
+  mpi_check(MPI_Irecv(reply_, 2, MPI_INT64_T, 0, kReplyTag, MPI_COMM_WORLD, &pending_req_),
+            "MPI_Irecv");
+  pending_ = true;
 }
 
 std::int64_t MpiSpread::next() {
-  // A thread's request after its first in this loop means it finished an item.
+  // A thread's call after its first in this loop means it finished an item.
   const bool finished_one = t_loop == loop_;
   t_loop = loop_;
   std::lock_guard<std::mutex> lock(mutex_);
   std::int64_t item = -1;
   if (world_.rank() == 0) {
-    item = take(0);
-  } else if (!exhausted_) {
-    std::int64_t done = finished_one ? 1 : 0;
-    mpi_check(MPI_Send(&done, 1, MPI_INT64_T, 0, kRequestTag, MPI_COMM_WORLD), "MPI_Send");
-    MPI_Request req;
-    mpi_check(MPI_Irecv(&item, 1, MPI_INT64_T, 0, kReplyTag, MPI_COMM_WORLD, &req), "MPI_Irecv");
-    mpi_wait(req);
-    if (item < 0) exhausted_ = true;
+    // Rank 0's own threads take one item at a time: no messages to save.
+    if (next_item_ < items_) {
+      owner_[next_item_] = 0;
+      item = static_cast<std::int64_t>(next_item_++);
+    }
+  } else {
+    if (finished_one) ++finished_;
+    if (ahead_lo_ == ahead_hi_ && !exhausted_) {
+      if (!pending_) request();
+      mpi_wait(pending_req_);
+      pending_ = false;
+      if (reply_[1] == 0) {
+        exhausted_ = true;
+      } else {
+        ahead_lo_ = reply_[0];
+        ahead_hi_ = reply_[0] + reply_[1];
+      }
+    }
+    if (ahead_lo_ < ahead_hi_) item = ahead_lo_++;
+    // Ask for more as the last item at hand starts, so that the answer arrives while it is
+    // computed: the round trip to rank 0's service thread is then hidden behind the work.
+    if (item >= 0 && ahead_lo_ == ahead_hi_ && !pending_) request();
   }
   if (item < 0) last_done_ = std::max(last_done_, MPI_Wtime() - start_);
   return item;
@@ -85,15 +120,18 @@ void MpiSpread::serve() {
     mpi_check(MPI_Recv(&done, 1, MPI_INT64_T, st.MPI_SOURCE, kRequestTag, MPI_COMM_WORLD,
                        MPI_STATUS_IGNORE),
               "MPI_Recv");
-    if (done && phase_) phase_->advance(1);
-    std::int64_t item;
+    if (done > 0 && phase_) phase_->advance(std::uint64_t(done));
+    remote_done_ += std::uint64_t(std::max<std::int64_t>(done, 0));
+    std::int64_t reply[2];  // the first item and the number of items (0: none left)
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      item = take(st.MPI_SOURCE);
+      std::uint64_t count = 0;
+      reply[0] = take(st.MPI_SOURCE, &count);
+      reply[1] = static_cast<std::int64_t>(count);
     }
-    mpi_check(MPI_Send(&item, 1, MPI_INT64_T, st.MPI_SOURCE, kReplyTag, MPI_COMM_WORLD),
+    mpi_check(MPI_Send(reply, 2, MPI_INT64_T, st.MPI_SOURCE, kReplyTag, MPI_COMM_WORLD),
               "MPI_Send");
-    if (item < 0) --waiting;
+    if (reply[1] == 0) --waiting;
   }
 }
 
@@ -131,6 +169,11 @@ SpreadBalance MpiSpread::finish(std::vector<std::string>& results,
         pos += n;
       }
     }
+    // The other ranks report the items they finished with their requests; the last ones are
+    // known only now.
+    std::uint64_t remote = 0;
+    for (int o : owner_) remote += o != 0;
+    if (phase_ && remote > remote_done_) phase_->advance(remote - remote_done_);
     SpreadBalance b;
     b.ranks.resize(std::size_t(size));
     double slowest = 0;

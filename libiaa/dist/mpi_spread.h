@@ -1,13 +1,18 @@
-// The MPI implementation of core/spread.h: rank 0 hands out the items of a loop one at a time, on
-// request, because their costs vary by 100x (a root block of background costs one evaluation, one
+// The MPI implementation of core/spread.h: rank 0 hands out the items of a loop on request, a few
+// at a time while many are left and one at a time at the end (guided self-scheduling), because
+// their costs vary by 100x (a root block of background costs one evaluation, one
 // on a silhouette thousands); every rank computes its items with its own threads, and at the end
 // the results are gathered on rank 0 and broadcast, so that every rank holds the whole result.
 //
-// On rank 0 a service thread answers the other ranks' requests while rank 0's own threads work.
+// On rank 0 a service thread answers the other ranks' requests while rank 0's own threads work;
+// the other ranks ask for their next item as soon as they start one, so that the round trip is
+// hidden behind the work.
 // Every wait polls with short sleeps rather than spinning in MPI, so that a rank waiting for work
 // or for the others does not take a core from ranks that compute (on a shared or oversubscribed
 // node that matters).
 #pragma once
+
+#include <mpi.h>
 
 #include <memory>
 #include <mutex>
@@ -33,18 +38,25 @@ class MpiSpread final : public Spread {
 
  private:
   void serve();  // rank 0's service thread: answers requests until every rank had its last reply
-  std::int64_t take(int rank);
+  std::int64_t take(int rank, std::uint64_t* count);  // rank 0: items for another rank
+  void request();  // rank > 0: asks rank 0 for an item, reporting the items finished since
 
   World& world_;
   std::uint64_t items_ = 0;
   const ProgressPhase* phase_ = nullptr;
   std::mutex mutex_;  // the next item (rank 0) or the request channel (other ranks)
   std::uint64_t next_item_ = 0;
-  std::vector<int> owner_;  // rank 0: which rank took each item
-  bool exhausted_ = false;  // this rank was told there is nothing left
-  double start_ = 0;        // MPI_Wtime() at begin()
-  double last_done_ = 0;    // seconds from begin() to this rank's last item's end
-  std::uint64_t loop_ = 0;  // this loop's number (see next())
+  std::vector<int> owner_;                    // rank 0: which rank took each item
+  bool exhausted_ = false;                    // this rank was told there is nothing left
+  std::int64_t ahead_lo_ = 0, ahead_hi_ = 0;  // rank > 0: items received, not yet started
+  bool pending_ = false;                      // rank > 0: a request is on its way (pending_req_)
+  MPI_Request pending_req_{};                 // its reply, into reply_
+  std::int64_t reply_[2] = {0, 0};            // first item, count
+  std::int64_t finished_ = 0;                 // rank > 0: items finished since the last request
+  std::uint64_t remote_done_ = 0;             // rank 0: items the other ranks reported finished
+  double start_ = 0;                          // MPI_Wtime() at begin()
+  double last_done_ = 0;                      // seconds from begin() to this rank's last item's end
+  std::uint64_t loop_ = 0;                    // this loop's number (see next())
   std::thread server_;
 };
 
