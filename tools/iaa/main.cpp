@@ -4,6 +4,7 @@
 // that all of them exit non-zero when one failed, and the error is printed once.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 #include <string_view>
@@ -103,6 +104,8 @@ int main(int argc, char** argv) {
     error = e.what();
   } catch (const std::bad_alloc&) {
     error = "out of memory";
+  } catch (const std::filesystem::filesystem_error& e) {
+    error = e.what();  // moving the .pvtu pieces into place (cmd_enclose.cpp)
   }
   if (!world->active()) {
     if (error.empty()) return 0;
