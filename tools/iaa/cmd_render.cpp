@@ -66,16 +66,20 @@ void run(const RenderOptions& o) {
   // Under mpirun every process renders a share and holds the whole film; the lead writes.
   dist::World* world = dist::World::current();
   const bool lead = !world || world->lead();
-  if (lead) {
-    app::check_writable(o.out, "-o: ");
-    if (!o.aov.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(o.aov, ec);
-      if (ec) throw Error("--aov: cannot create directory '" + o.aov + "': " + ec.message());
-    }
-    if (!o.report.empty()) app::check_writable(o.report, "--report: ");
+  if (lead && !o.aov.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.aov, ec);
+    if (ec) throw Error("--aov: cannot create directory '" + o.aov + "': " + ec.message());
   }
-  if (world) world->agree_input();
+  if (world) {
+    // Under mpirun the outputs are checked before the work, so that every process learns of a
+    // bad one at the agreement rather than wait for the lead to fail after it.
+    if (lead) {
+      app::check_writable(o.out, "-o: ");
+      if (!o.report.empty()) app::check_writable(o.report, "--report: ");
+    }
+    world->agree_input();
+  }
 
   app::ProgressBar bar(o.quiet || !lead);
   Exec exec;
