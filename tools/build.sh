@@ -2,9 +2,7 @@
 # Configures and builds iaa in build/ (Release, Ninja). Used by demo.sh, test.sh and soak.sh.
 # IAA_TARGETS="a b" builds only those targets.
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="${IAA_BUILD_DIR:-$root/build}"
-jobs="${IAA_JOBS:-$(nproc)}"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/paths.sh"  # root, build, fuzz_build, jobs
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
 fi

@@ -6,8 +6,7 @@
 # the run adds (tools/soak.sh). A crash, a leak, undefined behaviour or one input running over 5 s
 # fails the run: the log's tail is shown, the input that did it is build-fuzz/fuzz-NAME-*.
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="${IAA_FUZZ_BUILD_DIR:-$root/build-fuzz}"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/paths.sh"  # root, build, fuzz_build, jobs
 name="$1"
 seconds="$2"
 corpus="${3:-}"
@@ -22,12 +21,12 @@ if [ -z "$corpus" ]; then
 fi
 mkdir -p "$corpus"
 cp "${seeds[@]}" "$corpus"/
-log="$build/fuzz-$name.log"
+log="$fuzz_build/fuzz-$name.log"
 echo "fuzz: running fuzz_$name for ${seconds}s"
 # UBSan's reports are errors (halt), not messages the fuzzer would ignore.
-if ! UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 "$build/bin/fuzz_$name" \
+if ! UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 "$fuzz_build/bin/fuzz_$name" \
   -max_total_time="$seconds" -max_len="$max_len" -timeout=5 -print_final_stats=1 \
-  -artifact_prefix="$build/fuzz-$name-" "$corpus" 2>"$log"; then
+  -artifact_prefix="$fuzz_build/fuzz-$name-" "$corpus" 2>"$log"; then
   tail -50 "$log"
   echo "fuzz: fuzz_$name FAILED (log: $log)"
   exit 1

@@ -8,10 +8,8 @@
 # Every part runs even when an earlier one fails; the summary at the end has the figures
 # docs/testing.md records. Exits non-zero when any part failed.
 set -uo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/paths.sh"  # root, build, fuzz_build, jobs
 total="${1:-3600}"
-build="${IAA_BUILD_DIR:-$root/build}"
-fuzz_build="${IAA_FUZZ_BUILD_DIR:-$root/build-fuzz}"
 soak="$fuzz_build/soak"
 failed=()
 IAA_TARGETS="iaa_core_tests iaa_expr_tests" "$root/tools/build.sh" || exit 1

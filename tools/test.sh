@@ -4,11 +4,10 @@
 #   IAA_FUZZ_SECONDS=0 tools/test.sh   skips the fuzz run
 #   IAA_CLANG=0 tools/test.sh          skips the clang build (disabled-library checks, fuzz run)
 set -euo pipefail
-root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+source "$(dirname "${BASH_SOURCE[0]}")/lib/paths.sh"  # root, build, fuzz_build, jobs
 cd "$root"
 "$root/tools/setup.sh"
 "$root/tools/build.sh"
-build="${IAA_BUILD_DIR:-$root/build}"
 (cd "$build" && ctest --output-on-failure -j "$(nproc)" --timeout 900)
 
 # The clang build (build-fuzz: sanitizers on, CGAL, OpenMesh and VTK off; tools/build_fuzz.sh) when
