@@ -35,17 +35,17 @@ PixelWindow parse_window(const std::string& text) {
 }  // namespace
 
 std::vector<std::string> with_image_size(const RenderFlags& f, std::vector<std::string> sets) {
-  if (f.width != RenderFlags::kUnset) sets.push_back("image.width=" + std::to_string(f.width));
-  if (f.height != RenderFlags::kUnset) sets.push_back("image.height=" + std::to_string(f.height));
+  if (f.width) sets.push_back("image.width=" + std::to_string(*f.width));
+  if (f.height) sets.push_back("image.height=" + std::to_string(*f.height));
   return sets;
 }
 
 void apply_render_flags(const RenderFlags& f, RenderSettings* st) {
   if (!f.method.empty()) st->method = parse_method(f.method, &st->grid_n);
-  if (f.max_level >= 0) st->max_level = f.max_level;
-  if (f.threshold >= 0) st->estimator_threshold = f.threshold;
-  if (f.depth_tol >= 0) st->depth_tolerance = f.depth_tol;
-  if (f.adaptive_threshold >= 0) st->adaptive_threshold = f.adaptive_threshold;
+  if (f.max_level) st->max_level = *f.max_level;
+  if (f.threshold) st->estimator_threshold = *f.threshold;
+  if (f.depth_tol) st->depth_tolerance = *f.depth_tol;
+  if (f.adaptive_threshold) st->adaptive_threshold = *f.adaptive_threshold;
   if (f.no_shadows) st->shadows = false;
   if (f.shadows) st->shadows = true;
   if (!f.window.empty()) st->window = parse_window(f.window);

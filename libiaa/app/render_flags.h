@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,15 +16,14 @@
 
 namespace iaa::app {
 
-/// The render options as given; unset values mark options that were not given.
+/// The render options as given; an empty one was not given. Every given value, even an impossible
+/// one (a negative level), reaches the checks of the settings and the scene loader, which name the
+/// limits: none is taken for "not given".
 struct RenderFlags {
-  /// Marks an integer option that was not given.
-  static constexpr int kUnset = -2147483647;
-
   std::string method;
-  int max_level = -1;
-  double threshold = -1, depth_tol = -1, adaptive_threshold = -1;
-  int width = kUnset, height = kUnset;
+  std::optional<int> max_level;
+  std::optional<double> threshold, depth_tol, adaptive_threshold;
+  std::optional<int> width, height;
   std::string window;
   bool no_shadows = false, shadows = false;
 };

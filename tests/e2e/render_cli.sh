@@ -68,5 +68,11 @@ bad "NaN everywhere, x - x" "undefined (NaN) everywhere" "$iaa" render "$scene" 
 bad "bad method" "unknown method" "$iaa" render "$scene" -o "$tmp/bad.png" --method raymarch
 bad "not png" "png" "$iaa" render "$scene" -o "$tmp/bad.jpg"
 bad "bad level" "max_level" "$iaa" render "$scene" -o "$tmp/bad.png" --max-level 9
+# A negative value is an error naming the limits, not "not given" (it used to be ignored).
+bad "negative level" "max_level must be in \[0, 6\], got -1" "$iaa" render "$scene" -o "$tmp/bad.png" --max-level -1
+bad "negative threshold" "estimator_threshold must be in \[0, 2\]" "$iaa" render "$scene" -o "$tmp/bad.png" --threshold -0.5
+bad "negative depth tolerance" "depth_tolerance must be in \[0.001, 1000\]" "$iaa" render "$scene" -o "$tmp/bad.png" --depth-tol -1
+bad "negative adaptive threshold" "adaptive_threshold must be in \[0, 1\]" "$iaa" render "$scene" -o "$tmp/bad.png" --adaptive-threshold -0.1
+bad "negative width" "image.width" "$iaa" render "$scene" -o "$tmp/bad.png" --width -3
 
 exit $fail

@@ -55,8 +55,12 @@ std::string window_text(const pb::object& w) {
 /// settings: the scene's, with the arguments that were given, validated as the command does.
 std::pair<Scene, RenderSettings> scene_and_settings(const PyScene& ps, const RenderArgs& a) {
   app::RenderFlags f;
-  if (a.width) f.width = *a.width;
-  if (a.height) f.height = *a.height;
+  f.width = a.width;
+  f.height = a.height;
+  f.max_level = a.max_level;
+  f.threshold = a.threshold;
+  f.depth_tol = a.depth_tol;
+  f.adaptive_threshold = a.adaptive_threshold;
   f.method = a.method.value_or("");
   if (!a.window.is_none()) f.window = window_text(a.window);
   if (a.shadows) (*a.shadows ? f.shadows : f.no_shadows) = true;
@@ -66,13 +70,6 @@ std::pair<Scene, RenderSettings> scene_and_settings(const PyScene& ps, const Ren
           : ps.scene;
   RenderSettings st = scene.settings;
   app::apply_render_flags(f, &st);
-  // Given values are set as they are (the flags' "not given" marks are negative numbers, which
-  // here are out of range and reported as such).
-  if (a.max_level) st.max_level = *a.max_level;
-  if (a.threshold) st.estimator_threshold = *a.threshold;
-  if (a.depth_tol) st.depth_tolerance = *a.depth_tol;
-  if (a.adaptive_threshold) st.adaptive_threshold = *a.adaptive_threshold;
-  st.validate();
   st.validate_window(scene.width, scene.height);
   return {std::move(scene), st};
 }
