@@ -35,6 +35,9 @@ struct MeshOptions {
   bool quiet = false;
 };
 
+// Everything from here to run() writes or reports a mesh, which needs OpenMesh; without it `iaa
+// mesh` only fails cleanly (run()), and these would be unused functions.
+#ifdef IAA_HAVE_OPENMESH
 void check_uncertified_option(const MeshOptions& o, meshing::Method method) {
   if (o.uncertified.empty()) return;
   if (method != meshing::Method::kCertified) {
@@ -75,7 +78,6 @@ void print_certificate(const meshing::MeshRun& run) {
       d["distance_bound"]["surface_to_mesh"].get<double>());
 }
 
-#ifdef IAA_HAVE_OPENMESH
 /// The output checks that need no surface: the --report name and --uncertified's use.
 void check_outputs(const MeshOptions& o, meshing::Method method) {
   if (!o.report.empty() && app::extension_of(o.report) != "json") {
