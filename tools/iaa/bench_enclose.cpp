@@ -3,7 +3,8 @@
 // the .vtu write, with the growth per level (about x4 for a surface) and, as the baseline of the
 // same run, the natural interval alone (no mean-value form) at the shallower depths. The machine
 // may be shared: the `cpu` column (process CPU time of enclose + convert + write, all threads)
-// shows the work when the wall-clock times are inflated by other processes.
+// shows the work when the wall-clock times are inflated by other processes; `peak` is the peak
+// resident memory of the process during a run (the largest of the runs; bench.h, PeakMemory).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -64,6 +65,8 @@ struct Row {
   std::uint64_t evaluations = 0, corner_evaluations = 0, expansion_signs = 0;
   double enclose_s = 0, convert_s = 0, write_s = 0, total_s = 0, cpu_s = 0;
   std::uintmax_t file_bytes = 0;
+  std::uint64_t peak_bytes = 0;            ///< the largest peak resident memory of the runs
+  bool peak_exact = true;                  ///< every run's peak was its own (PeakMemory::exact)
   double base_boxes = -1, base_time = -1;  ///< the baseline's; -1 when not measured
 };
 
@@ -102,9 +105,9 @@ void print_header(const BenchOptions& o, const Plan& plan, int threads) {
               plan.write ? ", write = .vtu (LZ4) to a temporary file" : ", no write");
   std::printf("baseline: natural interval only (no mean-value form), depths <= %d\n\n",
               o.baseline_max_depth);
-  std::printf("%-13s %5s %10s %8s %10s %9s %9s %9s %9s %8s %9s %12s %9s\n", "surface", "depth",
+  std::printf("%-13s %5s %10s %8s %10s %9s %9s %9s %9s %8s %9s %9s %12s %9s\n", "surface", "depth",
               "boxes", "x/level", "possible", "enclose", "convert", "write", "total", "x/level",
-              "cpu", "base boxes", "base time");
+              "cpu", "peak MiB", "base boxes", "base time");
 }
 
 /// The octree (and, when planned, its .vtu conversion and write) `o.runs` times: the counts of
@@ -114,6 +117,8 @@ void measure_octree(const Scene& scene, const EncloseSettings& s, int runs,
   std::vector<double> t_enc, t_conv, t_write, t_total, t_cpu;
   Enclosure enc;
   for (int r = 0; r < runs; ++r) {
+    enc = Enclosure{};  // the previous run's octree is not part of this run's peak
+    const PeakMemory memory;
     const std::clock_t c0 = std::clock();
     const double te = seconds([&] { enc = enclose(*scene.tape, s, exec); });
     double tc = 0, tw = 0;
@@ -132,6 +137,8 @@ void measure_octree(const Scene& scene, const EncloseSettings& s, int runs,
     t_write.push_back(tw);
     t_total.push_back(te + tc + tw);
     t_cpu.push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    row->peak_bytes = std::max(row->peak_bytes, memory.peak_bytes());
+    row->peak_exact = row->peak_exact && memory.exact();
   }
   row->boxes = enc.cells.size();
   row->crossing = enc.count(CellClass::kCrossing);
@@ -175,10 +182,11 @@ void print_row(const Row& row, const Row* prev) {
     std::snprintf(bb, sizeof bb, "%.0f", row.base_boxes);
     std::snprintf(bt, sizeof bt, "%.3f s", row.base_time);
   }
-  std::printf("%-13s %5d %10.0f %8s %10llu %7.3f s %7.3f s %7.3f s %7.3f s %8s %7.3f s %12s %9s\n",
-              row.surface.c_str(), row.depth, boxes, growth,
-              static_cast<unsigned long long>(row.possible), row.enclose_s, row.convert_s,
-              row.write_s, row.total_s, tgrowth, row.cpu_s, bb, bt);
+  std::printf(
+      "%-13s %5d %10.0f %8s %10llu %7.3f s %7.3f s %7.3f s %7.3f s %8s %7.3f s %8.1f%s %12s %9s\n",
+      row.surface.c_str(), row.depth, boxes, growth, static_cast<unsigned long long>(row.possible),
+      row.enclose_s, row.convert_s, row.write_s, row.total_s, tgrowth, row.cpu_s,
+      mib(row.peak_bytes), row.peak_exact ? " " : "*", bb, bt);
   std::fflush(stdout);
 }
 
@@ -196,7 +204,9 @@ nlohmann::json row_json(const Row& row) {
                       {"write_s", row.write_s},
                       {"total_s", row.total_s},
                       {"cpu_s", row.cpu_s},
-                      {"file_bytes", row.file_bytes}};
+                      {"file_bytes", row.file_bytes},
+                      {"peak_rss_mib", mib(row.peak_bytes)},
+                      {"peak_rss_per_run", row.peak_exact}};
   if (row.base_boxes >= 0) {
     j["baseline_boxes"] = row.base_boxes;
     j["baseline_enclose_s"] = row.base_time;
@@ -227,6 +237,7 @@ void run(const BenchOptions& o) {
       prev = row;
     }
   }
+  std::printf("\n%s\n", kPeakNote);
   if (!o.json.empty()) {
     nlohmann::json j = {{"bench", "enclose"},
                         {"threads", exec.resolved_threads()},

@@ -1,5 +1,6 @@
 // `iaa bench mesh`: the four meshers on the paper's five surfaces at one resolution, each mesh
-// set against the IAA render of its scene: wall time, triangles, lost and wrong pixels, in one run.
+// set against the IAA render of its scene: wall time, triangles, lost and wrong pixels, and the
+// peak resident memory of a mesher's run (bench.h, PeakMemory), in one run.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -50,8 +51,8 @@ void print_header(const Options& o, const Exec& exec) {
       "images %dx%d, %d threads\n",
       o.p.resolution, o.p.octree_depth(), o.p.refine, o.p.grid > 0 ? o.p.grid : o.p.resolution,
       o.p.resolution, o.image, o.image, exec.resolved_threads());
-  std::printf("%-11s %-7s %9s %10s %8s %8s %10s  %s\n", "surface", "method", "time s", "triangles",
-              "lost px", "wrong px", "undecided", "notes");
+  std::printf("%-11s %-7s %9s %10s %8s %8s %10s %9s  %s\n", "surface", "method", "time s",
+              "triangles", "lost px", "wrong px", "undecided", "peak MiB", "notes");
 }
 
 double median(std::vector<double> v) {
@@ -66,6 +67,8 @@ struct Timed {
   double seconds = 0;
   std::vector<std::vector<double> > phases;
   meshing::MeshRun last;
+  std::uint64_t peak_bytes = 0;  ///< the largest peak resident memory of the runs
+  bool peak_exact = true;        ///< every run's peak was its own (PeakMemory::exact)
 };
 
 /// Runs the mesher --runs times (CGAL, the slowest, once) and takes the median time.
@@ -78,7 +81,11 @@ Timed time_mesher(const Options& o, meshing::Method m, const meshing::Surface& s
   tm.phases.resize(4);
   std::vector<double> times;
   for (int r = 0; r < tm.runs; ++r) {
+    tm.last = {};  // the previous run's mesh is not part of this run's peak
+    const PeakMemory memory;
     tm.last = meshing::run_mesher(m, s, o.p, exec);
+    tm.peak_bytes = std::max(tm.peak_bytes, memory.peak_bytes());
+    tm.peak_exact = tm.peak_exact && memory.exact();
     times.push_back(tm.last.seconds);
     for (int ph = 0; ph < 4; ++ph) {
       if (tm.last.details.contains(kPhases[ph]))
@@ -147,10 +154,11 @@ void bench_surface(const Options& o, const std::string& dir, const std::string& 
     const CompareCounts k = compare_mesh(o, tm.last.soup, film, scene, exec);
     const std::string notes = notes_for(m, tm, certified_seconds);
     if (m == meshing::Method::kCertified) certified_seconds = tm.seconds;
-    std::printf("%-11s %-7s %9.3f %10zu %8llu %8llu %10llu  %s\n", name.c_str(),
+    std::printf("%-11s %-7s %9.3f %10zu %8llu %8llu %10llu %8.1f%s  %s\n", name.c_str(),
                 meshing::method_label(m), tm.seconds, tm.last.soup.triangles.size(),
                 (unsigned long long)k.lost, (unsigned long long)k.wrong,
-                (unsigned long long)k.uncertain_empty, notes.c_str());
+                (unsigned long long)k.uncertain_empty, mib(tm.peak_bytes),
+                tm.peak_exact ? " " : "*", notes.c_str());
     std::fflush(stdout);
     out.push_back({{"surface", name},
                    {"method", meshing::method_label(m)},
@@ -161,6 +169,8 @@ void bench_surface(const Options& o, const std::string& dir, const std::string& 
                    {"wrong_pixels", k.wrong},
                    {"undecided_without_mesh", k.uncertain_empty},
                    {"iaa_covered_pixels", film.stats.covered},
+                   {"peak_rss_mib", mib(tm.peak_bytes)},
+                   {"peak_rss_per_run", tm.peak_exact},
                    {"settings", tm.last.details}});
   }
 }
@@ -210,7 +220,8 @@ void run(const Options& o) {
   std::printf(
       "lost: IAA certifies surface in the pixel, the mesh shows none; wrong: IAA certifies\n"
       "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n"
-      "octree phases: enclosure / grid signs / loop extraction / vertex placement.\n");
+      "octree phases: enclosure / grid signs / loop extraction / vertex placement.\n%s\n",
+      kPeakNote);
   if (!o.json.empty()) {
     nlohmann::json j = {{"rows", out}};
     if (!scaling.is_null()) j["cgal_thread_scaling"] = scaling;

@@ -1,8 +1,9 @@
 // `iaa bench render`: IAA against the point-sampled baselines on the paper's five scenes (or every
 // scene of the directory with --all), in one process: time (median of runs), interval evaluations
 // and leaves per pixel, the iaa/adaptive ratios, and quality against a `grid 16` reference (RMSE,
-// missed and spurious pixels). With --mpi N: `mpirun -np N iaa render` on each scene against one
-// process with N times the threads: times, the load balance, and whether the images are the same.
+// missed and spurious pixels), and the peak resident memory of a render (bench.h, PeakMemory).
+// With --mpi N: `mpirun -np N iaa render` on each scene against one process with N times the
+// threads: times, the load balance, and whether the images are the same.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -88,6 +89,8 @@ struct MethodRow {
   double median_s = 0;
   double evals_px = 0, leaves_px = 0;
   Quality q;
+  std::uint64_t peak_bytes = 0;  ///< the largest peak resident memory of the runs
+  bool peak_exact = true;        ///< every run's peak was its own (PeakMemory::exact)
 };
 
 /// The methods compared, in the order of the table; adaptive is the one the ratios divide by.
@@ -134,12 +137,18 @@ SceneRows measure_scene(const BenchRenderOptions& o, const Scene& scene, const E
   // benchmark weighs on all of them alike (and on their ratios as little as possible).
   std::vector<double> times[kN];
   Film films[kN];
+  std::uint64_t peaks[kN] = {};
+  bool exact[kN] = {true, true, true};
   for (int r = 0; r < o.runs; ++r) {
     for (std::size_t i = 0; i < kN; ++i) {
       RenderSettings st = base;
       st.method = kMethods[i];
+      films[i] = Film{};  // the method's previous image is not part of this run's peak
+      const PeakMemory memory;
       films[i] = render(scene, st, exec);
       times[i].push_back(films[i].seconds);
+      peaks[i] = std::max(peaks[i], memory.peak_bytes());
+      exact[i] = exact[i] && memory.exact();
     }
   }
   SceneRows out;
@@ -154,6 +163,8 @@ SceneRows measure_scene(const BenchRenderOptions& o, const Scene& scene, const E
     row.evals_px = double(f.stats.evals) / px;
     row.leaves_px = double(f.stats.leaves) / px;
     row.q = compare(f, ref);
+    row.peak_bytes = peaks[i];
+    row.peak_exact = exact[i];
     out.rows.push_back(row);
   }
   return out;
@@ -162,9 +173,9 @@ SceneRows measure_scene(const BenchRenderOptions& o, const Scene& scene, const E
 void print_header(const BenchRenderOptions& o, int threads) {
   std::printf("iaa bench render: %dx%d, %d threads, median of %d runs, reference grid %d\n\n",
               o.size, o.size, threads, o.runs, o.ref_grid);
-  std::printf("%-11s %-9s %9s %9s %9s %8s %8s %8s %8s %7s %9s\n", "scene", "method", "median s",
+  std::printf("%-11s %-9s %9s %9s %9s %8s %8s %8s %8s %7s %9s %9s\n", "scene", "method", "median s",
               "evals/px", "leaves/px", "time/ad", "evals/ad", "leaves/ad", "RMSE", "missed",
-              "spurious");
+              "spurious", "peak MiB");
 }
 
 /// Prints one scene's rows and appends their JSON records to `out`. The table shows the ratios
@@ -177,9 +188,10 @@ void print_rows(const BenchRenderOptions& o, const std::string& name, const Scen
     const std::string t = iaa ? ratio_cell(r.median_s, adaptive.median_s) : "";
     const std::string e = iaa ? ratio_cell(r.evals_px, adaptive.evals_px) : "";
     const std::string l = iaa ? ratio_cell(r.leaves_px, adaptive.leaves_px) : "";
-    std::printf("%-11s %-9s %9.3f %9.1f %9.2f %8s %8s %9s %8.4f %7ld %9ld\n", name.c_str(),
+    std::printf("%-11s %-9s %9.3f %9.1f %9.2f %8s %8s %9s %8.4f %7ld %9ld %8.1f%s\n", name.c_str(),
                 r.method.c_str(), r.median_s, r.evals_px, r.leaves_px, t.c_str(), e.c_str(),
-                l.c_str(), r.q.rmse, r.q.missed, r.q.spurious);
+                l.c_str(), r.q.rmse, r.q.missed, r.q.spurious, mib(r.peak_bytes),
+                r.peak_exact ? "" : "*");
     out->push_back({{"scene", name},
                     {"method", r.method},
                     {"median_seconds", r.median_s},
@@ -191,6 +203,8 @@ void print_rows(const BenchRenderOptions& o, const std::string& name, const Scen
                     {"rmse", r.q.rmse},
                     {"missed", r.q.missed},
                     {"spurious", r.q.spurious},
+                    {"peak_rss_mib", mib(r.peak_bytes)},
+                    {"peak_rss_per_run", r.peak_exact},
                     {"width", o.size},
                     {"height", o.size},
                     {"threads", threads},
@@ -336,7 +350,9 @@ void run(const BenchRenderOptions& o) {
       "\ntime/ad, evals/ad, leaves/ad: iaa's median time, evaluations and leaves per pixel over\n"
       "adaptive's, measured in this run.\n"
       "RMSE on 8-bit display values in [0, 1]; missed = the reference sees surface, the method\n"
-      "shows pure background; spurious = the reference sees none, the method shows some.\n");
+      "shows pure background; spurious = the reference sees none, the method shows some.\n"
+      "%s\n",
+      kPeakNote);
   if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
 }
 

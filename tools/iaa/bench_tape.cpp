@@ -1,7 +1,8 @@
 // `iaa bench tape`: nanoseconds per tape operation for each evaluator, on the chubs and Barth
 // sextic expressions (read from their scenes in data/scenes), next to the same expressions
 // hand-written in plain double arithmetic and compiled natively, all measured in the same run,
-// and the throughput (tape operations per second on one core). Medians of several runs.
+// and the throughput (tape operations per second on one core). Medians of several runs; the peak
+// resident memory of the measurement (bench.h, PeakMemory).
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -107,6 +108,8 @@ std::vector<Scene> load_scenes(const Options& o) {
 /// Median seconds of one batch of evaluations, per evaluator.
 struct Times {
   double native = 0, point = 0, interval = 0, point_grad = 0, interval_grad = 0;
+  std::uint64_t peak_bytes = 0;  ///< the peak resident memory of all the evaluators' runs
+  bool peak_exact = true;        ///< the peak was this surface's (PeakMemory::exact)
 };
 
 /// A box of edge 1e-2 at each point, as the interval evaluators see one.
@@ -117,6 +120,7 @@ IBox box_at(const Vec3& p) {
 /// Times every evaluator on the same points; each sums its results into g_sink so that the
 /// compiler cannot drop the work.
 Times measure(const Surface& s, const Tape& tape, const std::vector<Vec3>& pts, int runs) {
+  const PeakMemory memory;
   PointEval pe(tape);
   IntervalEval ie(tape);
   PointGradEval pg(tape);
@@ -149,14 +153,18 @@ Times measure(const Surface& s, const Tape& tape, const std::vector<Vec3>& pts, 
     for (const Vec3& p : pts) acc += ig.eval(box_at(p)).g[0].hi();
     g_sink = acc;
   });
+  t.peak_bytes = memory.peak_bytes();
+  t.peak_exact = memory.exact();
   return t;
 }
 
 void print_header() {
-  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %s\n", "surface", "ops", "native", "point",
-              "interval", "pt+grad", "iv+grad", "iv/point", "target");
-  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  <= %gx\n", "", "", "ns/op", "ns/op",
-              "ns/op", "ns/op", "ns/op", "ratio", kIntervalOverPointTarget);
+  char target[16];
+  std::snprintf(target, sizeof target, "<= %gx", kIntervalOverPointTarget);
+  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s\n", "surface", "ops", "native",
+              "point", "interval", "pt+grad", "iv+grad", "iv/point", "target", "peak MiB");
+  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s\n", "", "", "ns/op", "ns/op", "ns/op",
+              "ns/op", "ns/op", "ratio", target);
 }
 
 /// Prints the line of one surface and returns its JSON record; times become ns per operation.
@@ -165,9 +173,10 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
   const auto ns = [&](double sec) { return sec * 1e9 / ops; };
   const double ratio = t.interval / t.point;
   const bool within = ratio <= kIntervalOverPointTarget;
-  std::printf("%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %s\n", s.scene,
+  std::printf("%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %-7s %8.1f%s\n", s.scene,
               tape.op_count(), ns(t.native), ns(t.point), ns(t.interval), ns(t.point_grad),
-              ns(t.interval_grad), ratio, within ? "within" : "MISSED");
+              ns(t.interval_grad), ratio, within ? "within" : "MISSED", mib(t.peak_bytes),
+              t.peak_exact ? "" : "*");
   return {{"surface", s.scene},
           {"tape_ops", tape.op_count()},
           {"evaluations", o.points},
@@ -185,7 +194,9 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
             {"interval_grad", 1e9 / ns(t.interval_grad)}}},
           {"interval_over_point", ratio},
           {"interval_over_point_target", kIntervalOverPointTarget},
-          {"within_target", within}};
+          {"within_target", within},
+          {"peak_rss_mib", mib(t.peak_bytes)},
+          {"peak_rss_per_run", t.peak_exact}};
 }
 
 void run(const Options& o) {
@@ -210,8 +221,8 @@ void run(const Options& o) {
   }
   std::printf(
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"
-      "target: interval within %gx of point evaluation per operation\n",
-      o.runs, o.points, kIntervalOverPointTarget);
+      "target: interval within %gx of point evaluation per operation\n%s\n",
+      o.runs, o.points, kIntervalOverPointTarget, kPeakNote);
   if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
 }
 
