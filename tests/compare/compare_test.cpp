@@ -278,9 +278,8 @@ TEST(Compare, TeardropOctreeLosesFewerPixelsThanPeers) {
 }
 #endif
 
-#endif
-
-// Ctrl-C (Progress::cancel) reaches the mesh's ray cast: it stops with an error.
+// Ctrl-C (Progress::cancel) reaches the mesh's ray cast: it stops with an error. The ray cast
+// (view_mesh) is CGAL's AABB tree, so this too needs CGAL.
 TEST(Compare, CancelStopsTheMeshCastWithAnError) {
   struct CancelAtStart : Progress {
     void start(std::string_view, std::uint64_t) override { cancel(); }
@@ -290,6 +289,8 @@ TEST(Compare, CancelStopsTheMeshCastWithAnError) {
   exec.progress = &progress;
   EXPECT_THROW(view_mesh(c.mesh, c.scene, 1, exec), Error);
 }
+
+#endif
 
 }  // namespace
 }  // namespace iaa
