@@ -10,7 +10,7 @@ cd "$root"
 "$root/tools/build.sh"
 (cd "$build" && ctest --output-on-failure -j "$(nproc)" --timeout 900)
 
-# The clang build (build-fuzz: sanitizers on, CGAL, OpenMesh and VTK off; tools/build_fuzz.sh) when
+# The clang build (build-fuzz: sanitizers on, CGAL, OpenMesh, VTK and MPI off; tools/build_fuzz.sh) when
 # clang is available: the unit suites under AddressSanitizer (with its leak check) and
 # UndefinedBehaviorSanitizer; the iaa tool, whose commands that need a left-out library must fail
 # cleanly (tests/e2e/disabled_cli.sh); and short libFuzzer runs of the expression parser and of
