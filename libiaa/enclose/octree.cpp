@@ -613,7 +613,9 @@ SpreadBalance enclose_spread(Shared& sh, const std::vector<Index>& frontier, int
     const std::size_t bytes = results[i].size() - pos;
     IAA_CHECK(bytes % sizeof(Cell) == 0);
     parts[i].resize(bytes / sizeof(Cell));
-    std::memcpy(parts[i].data(), results[i].data() + pos, bytes);
+    // A subtree without boxes leaves parts[i] empty, whose data() may be null: memcpy must not
+    // see it even for 0 bytes (UBSan).
+    if (bytes > 0) std::memcpy(parts[i].data(), results[i].data() + pos, bytes);
     std::string().swap(results[i]);
   }
   // No process may have seen the limit pass (each counts its own leaves): the total decides.

@@ -17,6 +17,7 @@
 #include "render/context.h"
 #include "render/render.h"
 #include "scene/camera.h"
+#include "test_progress.h"
 #include "test_scenes.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/vtk_mesher.h"
@@ -281,9 +282,7 @@ TEST(Compare, TeardropOctreeLosesFewerPixelsThanPeers) {
 // Ctrl-C (Progress::cancel) reaches the mesh's ray cast: it stops with an error. The ray cast
 // (view_mesh) is CGAL's AABB tree, so this too needs CGAL.
 TEST(Compare, CancelStopsTheMeshCastWithAnError) {
-  struct CancelAtStart : Progress {
-    void start(std::string_view, std::uint64_t) override { cancel(); }
-  } progress;
+  test::CancelAtStart progress;
   const SphereCase c;
   Exec exec;
   exec.progress = &progress;

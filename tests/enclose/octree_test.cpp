@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "enclose_support.h"
 #include "expr/eval_interval.h"
+#include "test_progress.h"
 
 namespace iaa {
 namespace {
@@ -349,9 +350,7 @@ TEST(Enclose, TeardropNeckIsEnclosed) {
 }
 
 TEST(Enclose, CancelStopsWithAnError) {
-  struct CancelAtStart : Progress {
-    void start(std::string_view, std::uint64_t) override { cancel(); }
-  } progress;
+  test::CancelAtStart progress;
   const Tape tape = Tape::parse("x^2 + y^2 + z^2 - 0.5");
   EncloseSettings s;
   s.bounds = kUnit;

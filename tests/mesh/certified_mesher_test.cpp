@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "mesh/mesh_report.h"
 #include "mesh/self_intersections.h"
+#include "test_progress.h"
 #include "test_scenes.h"
 
 namespace iaa {
@@ -336,9 +337,7 @@ TEST(CertifiedMesher, SurfacesThatNeverChangeSignStayPossible) {
 // Ctrl-C (Progress::cancel) reaches the refinement and the extraction, not only the rounds
 // between them: a cancelled run stops with an error.
 TEST(CertifiedMesher, CancelStopsWithAnError) {
-  struct CancelAtStart : Progress {
-    void start(std::string_view, std::uint64_t) override { cancel(); }
-  } progress;
+  test::CancelAtStart progress;
   const Tape tape = Tape::parse("x^2 + y^2 + z^2 - 0.64");
   Exec exec;
   exec.progress = &progress;

@@ -12,6 +12,7 @@
 #include "expr/eval_point_grad.h"
 #include "mesh/mesh_report.h"
 #include "mesh/mesh_test_util.h"
+#include "test_progress.h"
 
 namespace iaa {
 namespace {
@@ -206,9 +207,7 @@ TEST(OctreeMesher, SettingsAreValidated) {
 // Ctrl-C (Progress::cancel) reaches the octree mesher's phases: it stops with an error instead of
 // finishing the mesh.
 TEST(OctreeMesher, CancelStopsWithAnError) {
-  struct CancelAtStart : Progress {
-    void start(std::string_view, std::uint64_t) override { cancel(); }
-  } progress;
+  test::CancelAtStart progress;
   const Tape tape = Tape::parse("x^2 + y^2 + z^2 - 0.64");
   const Enclosure enc = test::local_enclose(tape, kCube, 5, 0);
   Exec exec;
