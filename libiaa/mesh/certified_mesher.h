@@ -91,7 +91,7 @@ struct CertifiedMeshStats {
   /// between neighbouring cells through a per-thread cache, so with several threads this count
   /// varies slightly from run to run (by about 1 in 10^5); the mesh and the certificates do not.
   std::uint64_t interval_evaluations = 0;
-  int finest_depth = 0;                    ///< deepest leaf below its root
+  int finest_depth = 0;  ///< deepest leaf below its root
   /// Within the certified leaves, every mesh point lies at most this far from the surface: the
   /// largest diagonal of a certified leaf that holds mesh (its triangles stay in the leaf, and a
   /// leaf with a loop holds surface).
