@@ -229,7 +229,9 @@ constexpr int kProofSplits = 2;
 /// zeros, through which they may reach one. Closed boxes, flat along the axes the face or edge is
 /// flat along.
 struct ProofPieces {
-  static constexpr int kMax = 1 << (2 * 2 + 2);  // 4^kProofSplits pieces at most, with room
+  /// Every piece of every level may be zero-free: 1 + 4 + ... + 4^kProofSplits of a face (an
+  /// edge has fewer).
+  static constexpr int kMax = ((4 << (2 * kProofSplits)) - 1) / 3;
   std::array<Box3, kMax> box;
   std::array<bool, kMax> loose{};  ///< a piece that must reach the boundary
   int n = 0;
