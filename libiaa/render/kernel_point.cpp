@@ -63,11 +63,14 @@ PixelResult grid_pixel(RenderContext& ctx, const PixelJob& job, PixelTrace* trac
       certified |= s.certified;
     }
   }
-  const double inv = 1.0 / (double(n) * n);
+  // Divide by n^2 rather than multiply by 1/n^2: the kernel runs under the RoundingScope's upward
+  // rounding, where 9 * (1 / 9.0) is 1 + 2^-52. An exact integer ratio rounded up stays in [0, 1]
+  // and is exactly 1 when every ray hits.
+  const double rays = double(n) * n;
   PixelResult r;
-  r.color = to_rgb(inv * sum);
+  r.color = to_rgb((1.0 / rays) * sum);
   r.leaves = static_cast<std::uint32_t>(n * n);
-  r.coverage = static_cast<float>(hits * inv);
+  r.coverage = static_cast<float>(hits / rays);
   r.certificate = certified ? PixelCertificate::kCovered : PixelCertificate::kUncertain;
   return r;
 }
