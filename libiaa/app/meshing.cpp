@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/balance.h"
 #include "core/error.h"
 #include "mesh/cgal_mesher.h"
 #ifdef IAA_HAVE_CGAL
@@ -34,6 +35,7 @@ void run_certified(const Surface& s, const MeshParams& p, const Exec& exec, Mesh
   run.seconds = seconds_since(t0);
   run.soup = std::move(cm.soup);
   run.uncertified = std::move(cm.uncertified);
+  run.balance = std::move(cm.balance);
   const CertifiedMeshStats& st = cm.stats;
   run.details = {{"min_depth", cs.min_depth},
                  {"max_depth", cs.max_depth},
@@ -105,6 +107,7 @@ void run_octree(const Surface& s, const MeshParams& p, const Exec& exec, MeshRun
       std::to_string(os.enclose.depth + os.enclose.refine_possible) +
       "): " + std::to_string(st.leaves) + " leaves, " + std::to_string(st.crossing_leaves) +
       " crossing, " + std::to_string(st.possible_leaves) + " possible";
+  run.balance = enc.balance;
   run.enclosure = std::move(enc);
 }
 
@@ -291,6 +294,7 @@ nlohmann::json mesh_report_json(Method method, const Surface& surface, const Mes
   j["self_intersections"] = nullptr;  // counted with CGAL, left out of this build
 #endif
   if (method == Method::kCertified) add_certificate(j, run);
+  if (!run.balance.ranks.empty()) j["mpi"] = balance_json(run.balance);
   return j;
 }
 

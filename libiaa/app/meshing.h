@@ -97,6 +97,9 @@ struct MeshRun {
   std::string summary;                       ///< one line: the method and its main settings
   std::optional<Enclosure> enclosure;        ///< the octree's own enclosure
   std::vector<UncertifiedCell> uncertified;  ///< certified: the cells it could not certify
+  /// Under mpirun: how the shared loops were balanced (certified: its refinement; octree: its
+  /// enclosure); empty otherwise.
+  SpreadBalance balance;
 };
 
 /// Validates the parameters and runs one mesher; `vtk` runs Method::kVtk (null: not built).

@@ -52,8 +52,13 @@ class Spread {
   /// Starts a loop of `items` items. On the lead, `phase` (when not null) is advanced once for
   /// each item that another process finishes (the caller advances it for its own).
   virtual void begin(std::uint64_t items, const ProgressPhase* phase) = 0;
-  /// The next item this process computes, or -1 when none is left. Thread-safe.
+  /// The next item this process computes, or -1 when none is left. Thread-safe. May throw when
+  /// the loop cannot go on (another process failed: the error is not this process's).
   virtual std::int64_t next() = 0;
+  /// A thread of this process met an error in the loop, which will leave it: next() returns -1
+  /// from now on, so that the other threads stop at once instead of computing the rest of the
+  /// items. finish() is not called after it.
+  virtual void fail() {}
   /// Ends the loop. On entry results[i] and work[i] are set for the items this process computed;
   /// on return every process holds every item's. Returns the loop's balance.
   virtual SpreadBalance finish(std::vector<std::string>& results,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <numeric>
 
 #include "core/error.h"
 #include "core/exec.h"
@@ -23,6 +24,16 @@ constexpr int kResultsTag = 103;  // rank > 0 to rank 0: its items' results at t
 std::atomic<std::uint64_t> g_loops{0};
 thread_local std::uint64_t t_loop = 0;
 
+/// The stride of the order in which the items are handed out: the first integer from n / phi up
+/// that is coprime with n, so that position j -> j * stride mod n visits every item once and
+/// consecutive positions land far apart (1 for n beyond 2^32, where j * stride could overflow).
+std::uint64_t scatter_stride(std::uint64_t n) {
+  if (n < 3 || n >= (std::uint64_t{1} << 32)) return 1;
+  for (std::uint64_t s = std::uint64_t(double(n) * 0.6180339887498949);; ++s) {
+    if (std::gcd(s, n) == 1) return s;
+  }
+}
+
 }  // namespace
 
 MpiSpread::MpiSpread(World& world) : world_(world) {
@@ -30,7 +41,14 @@ MpiSpread::MpiSpread(World& world) : world_(world) {
 }
 
 MpiSpread::~MpiSpread() {
+  // After a failure: the service thread stops answering, and a request still on its way is
+  // withdrawn, so that nothing of this loop is left pending in MPI.
+  stop_ = true;
   if (server_.joinable()) server_.join();
+  if (pending_) {
+    MPI_Cancel(&pending_req_);
+    MPI_Wait(&pending_req_, MPI_STATUS_IGNORE);
+  }
 }
 
 void MpiSpread::begin(std::uint64_t items, const ProgressPhase* phase) {
@@ -43,11 +61,19 @@ void MpiSpread::begin(std::uint64_t items, const ProgressPhase* phase) {
   pending_ = false;
   finished_ = 0;
   remote_done_ = 0;
+  stride_ = scatter_stride(items);
   loop_ = ++g_loops;
+  failed_ = false;
+  stop_ = false;
+  peer_failed_ = -1;
   owner_.assign(world_.rank() == 0 ? items : 0, -1);
   start_ = MPI_Wtime();
   last_done_ = 0;
   if (world_.rank() == 0 && world_.size() > 1) server_ = std::thread([this] { serve(); });
+}
+
+std::int64_t MpiSpread::item_at(std::uint64_t pos) const {
+  return static_cast<std::int64_t>(pos * stride_ % items_);
 }
 
 std::int64_t MpiSpread::take(int rank, std::uint64_t* count) {
@@ -58,7 +84,7 @@ std::int64_t MpiSpread::take(int rank, std::uint64_t* count) {
       std::min(left, std::max<std::uint64_t>(1, left / (4 * std::uint64_t(world_.size()))));
   *count = n;
   if (n == 0) return -1;
-  for (std::uint64_t k = 0; k < n; ++k) owner_[next_item_ + k] = rank;
+  for (std::uint64_t k = 0; k < n; ++k) owner_[std::size_t(item_at(next_item_ + k))] = rank;
   const auto first = static_cast<std::int64_t>(next_item_);
   next_item_ += n;
   return first;
@@ -77,19 +103,21 @@ std::int64_t MpiSpread::next() {
   // A thread's call after its first in this loop means it finished an item.
   const bool finished_one = t_loop == loop_;
   t_loop = loop_;
+  if (failed_) return -1;
   std::lock_guard<std::mutex> lock(mutex_);
   std::int64_t item = -1;
   if (world_.rank() == 0) {
+    if (const int r = peer_failed_; r >= 0) throw PeerFailed{r};
     // Rank 0's own threads take one item at a time: no messages to save.
     if (next_item_ < items_) {
-      owner_[next_item_] = 0;
-      item = static_cast<std::int64_t>(next_item_++);
+      item = item_at(next_item_++);
+      owner_[std::size_t(item)] = 0;
     }
   } else {
     if (finished_one) ++finished_;
     if (ahead_lo_ == ahead_hi_ && !exhausted_) {
       if (!pending_) request();
-      mpi_wait(pending_req_);
+      mpi_wait(pending_req_, 0, true);
       pending_ = false;
       if (reply_[1] == 0) {
         exhausted_ = true;
@@ -98,7 +126,7 @@ std::int64_t MpiSpread::next() {
         ahead_hi_ = reply_[0] + reply_[1];
       }
     }
-    if (ahead_lo_ < ahead_hi_) item = ahead_lo_++;
+    if (ahead_lo_ < ahead_hi_) item = item_at(std::uint64_t(ahead_lo_++));
     // Ask for more as the last item at hand starts, so that the answer arrives while it is
     // computed: the round trip to rank 0's service thread is then hidden behind the work.
     if (item >= 0 && ahead_lo_ == ahead_hi_ && !pending_) request();
@@ -115,11 +143,17 @@ void MpiSpread::serve() {
   // the same time (-np 2 --threads 1 on 2 cores). The others ask ahead, so the longer wait hides
   // behind their work.
   auto pause = std::chrono::microseconds(20);
-  while (waiting > 0) {
+  while (waiting > 0 && !stop_) {
     int flag = 0;
     MPI_Status st;
     mpi_check(MPI_Iprobe(MPI_ANY_SOURCE, kRequestTag, MPI_COMM_WORLD, &flag, &st), "MPI_Iprobe");
     if (!flag) {
+      // Another process failed: its requests will not come. Rank 0's workers and finish() see
+      // peer_failed_ and throw.
+      if (int r = -1; failure_announced(&r)) {
+        peer_failed_ = r;
+        return;
+      }
       std::this_thread::sleep_for(pause);
       pause = std::min(2 * pause, std::chrono::microseconds(1000));
       continue;
@@ -163,6 +197,7 @@ SpreadBalance MpiSpread::finish(std::vector<std::string>& results,
     mpi_send_bytes(mine, 0, kResultsTag);
   } else {
     if (server_.joinable()) server_.join();
+    if (const int r = peer_failed_; r >= 0) throw PeerFailed{r};
     std::vector<double> busy(std::size_t(size), 0);
     busy[0] = last_done_;
     for (int r = 1; r < size; ++r) {

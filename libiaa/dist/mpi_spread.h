@@ -3,17 +3,23 @@
 // their costs vary by 100x (a root block of background costs one evaluation, one
 // on a silhouette thousands); every rank computes its items with its own threads, and at the end
 // the results are gathered on rank 0 and broadcast, so that every rank holds the whole result.
+// The items go out in a scattered order (j * stride mod n, stride near n / phi): neighbouring
+// items cost alike (the blocks along a silhouette, the subtrees of one region), and a chunk of
+// consecutive ones would put a whole costly region into one rank's hands.
 //
 // On rank 0 a service thread answers the other ranks' requests while rank 0's own threads work;
 // the other ranks ask for their next item as soon as they start one, so that the round trip is
 // hidden behind the work.
 // Every wait polls with short sleeps rather than spinning in MPI, so that a rank waiting for work
 // or for the others does not take a core from ranks that compute (on a shared or oversubscribed
-// node that matters).
+// node that matters). Every wait also watches for another process's announcement that it failed
+// (World::announce_failure()) and then throws PeerFailed, so that one process's error ends the
+// run at once rather than leave the others waiting for its share.
 #pragma once
 
 #include <mpi.h>
 
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -33,6 +39,7 @@ class MpiSpread final : public Spread {
   int rank() const override { return world_.rank(); }
   void begin(std::uint64_t items, const ProgressPhase* phase) override;
   std::int64_t next() override;
+  void fail() override { failed_ = true; }
   SpreadBalance finish(std::vector<std::string>& results,
                        std::vector<std::uint64_t>& work) override;
 
@@ -40,14 +47,16 @@ class MpiSpread final : public Spread {
   void serve();  // rank 0's service thread: answers requests until every rank had its last reply
   std::int64_t take(int rank, std::uint64_t* count);  // rank 0: items for another rank
   void request();  // rank > 0: asks rank 0 for an item, reporting the items finished since
+  std::int64_t item_at(std::uint64_t pos) const;  // the item handed out at position `pos`
 
   World& world_;
   std::uint64_t items_ = 0;
   const ProgressPhase* phase_ = nullptr;
-  std::mutex mutex_;  // the next item (rank 0) or the request channel (other ranks)
-  std::uint64_t next_item_ = 0;
-  std::vector<int> owner_;                    // rank 0: which rank took each item
-  bool exhausted_ = false;                    // this rank was told there is nothing left
+  std::mutex mutex_;             // the next item (rank 0) or the request channel (other ranks)
+  std::uint64_t next_item_ = 0;  // the next position in the order of hand-out (item_at())
+  std::uint64_t stride_ = 1;     // that order: position j is item j * stride_ mod items_
+  std::vector<int> owner_;       // rank 0: which rank took each item
+  bool exhausted_ = false;       // this rank was told there is nothing left
   std::int64_t ahead_lo_ = 0, ahead_hi_ = 0;  // rank > 0: items received, not yet started
   bool pending_ = false;                      // rank > 0: a request is on its way (pending_req_)
   MPI_Request pending_req_{};                 // its reply, into reply_
@@ -58,6 +67,9 @@ class MpiSpread final : public Spread {
   double last_done_ = 0;                      // seconds from begin() to this rank's last item's end
   std::uint64_t loop_ = 0;                    // this loop's number (see next())
   std::thread server_;
+  std::atomic<bool> failed_{false};   // this process failed in the loop (fail())
+  std::atomic<bool> stop_{false};     // rank 0: the service thread must end (the loop failed)
+  std::atomic<int> peer_failed_{-1};  // rank 0: a process that announced a failure, seen by serve()
 };
 
 }  // namespace iaa::dist

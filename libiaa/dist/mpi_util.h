@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "dist/world.h"
 
 namespace iaa::dist {
 
@@ -23,16 +24,37 @@ inline void mpi_check(int rc, const char* what) {
   throw Error(std::string("MPI: ") + what + " failed: " + std::string(text, std::size_t(len)));
 }
 
+/// The tag of World::announce_failure()'s notices, on MPI_COMM_WORLD.
+constexpr int kFailureTag = 199;
+
+/// True when another process announced that it failed (World::announce_failure()); `rank` gets
+/// which one. The notice is left in place, so that every later look sees it too.
+inline bool failure_announced(int* rank) {
+  int flag = 0;
+  MPI_Status st;
+  mpi_check(MPI_Iprobe(MPI_ANY_SOURCE, kFailureTag, MPI_COMM_WORLD, &flag, &st), "MPI_Iprobe");
+  if (flag) *rank = st.MPI_SOURCE;
+  return flag != 0;
+}
+
+/// Throws PeerFailed when another process announced that it failed.
+inline void check_failures() {
+  int rank = -1;
+  if (failure_announced(&rank)) throw PeerFailed{rank};
+}
+
 /// Waits for a request to complete: a few quick tests, then tests between sleeps of 50 us, so
 /// that a waiting process leaves its core to the ones that compute. With `deadline` > 0, returns
-/// false when that many seconds passed first.
-inline bool mpi_wait(MPI_Request& req, double deadline = 0) {
+/// false when that many seconds passed first. With `watch`, throws PeerFailed as soon as another
+/// process announces that it failed (the spread's waits: what they wait for may never come).
+inline bool mpi_wait(MPI_Request& req, double deadline = 0, bool watch = false) {
   const auto t0 = std::chrono::steady_clock::now();
   for (int polls = 0;; ++polls) {
     int done = 0;
     mpi_check(MPI_Test(&req, &done, MPI_STATUS_IGNORE), "MPI_Test");
     if (done) return true;
     if (polls < 64) continue;
+    if (watch && polls % 16 == 0) check_failures();
     std::this_thread::sleep_for(std::chrono::microseconds(50));
     if (deadline > 0 &&
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > deadline) {
@@ -55,7 +77,7 @@ inline void mpi_send_bytes(const std::string& buf, int dest, int tag) {
   std::uint64_t n = buf.size();
   MPI_Request req;
   mpi_check(MPI_Issend(&n, 1, MPI_UINT64_T, dest, tag, MPI_COMM_WORLD, &req), "MPI_Issend");
-  mpi_wait(req);
+  mpi_wait(req, 0, true);
   for (std::size_t off = 0; off < buf.size(); off += kMpiPiece) {
     const int len = static_cast<int>(std::min(kMpiPiece, buf.size() - off));
     mpi_check(MPI_Send(buf.data() + off, len, MPI_BYTE, dest, tag, MPI_COMM_WORLD), "MPI_Send");
@@ -67,7 +89,7 @@ inline std::string mpi_recv_bytes(int source, int tag) {
   std::uint64_t n = 0;
   MPI_Request req;
   mpi_check(MPI_Irecv(&n, 1, MPI_UINT64_T, source, tag, MPI_COMM_WORLD, &req), "MPI_Irecv");
-  mpi_wait(req);
+  mpi_wait(req, 0, true);
   std::string buf(n, '\0');
   for (std::size_t off = 0; off < buf.size(); off += kMpiPiece) {
     const int len = static_cast<int>(std::min(kMpiPiece, buf.size() - off));
@@ -83,7 +105,7 @@ inline void mpi_bcast_bytes(std::string& buf) {
   std::uint64_t n = buf.size();
   MPI_Request req;
   mpi_check(MPI_Ibcast(&n, 1, MPI_UINT64_T, 0, MPI_COMM_WORLD, &req), "MPI_Ibcast");
-  mpi_wait(req);
+  mpi_wait(req, 0, true);
   buf.resize(n);
   for (std::size_t off = 0; off < buf.size(); off += kMpiPiece) {
     const int len = static_cast<int>(std::min(kMpiPiece, buf.size() - off));

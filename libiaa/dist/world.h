@@ -14,9 +14,17 @@
 
 namespace iaa::dist {
 
-/// Thrown by agree() on a process that was fine when another was not: that process's error has
-/// been reported there, this one only exits non-zero.
+/// Thrown by agree_input() and agree_done() on a process that was fine when another was not:
+/// that process's error has been reported there, this one only exits non-zero (it has taken part
+/// in the agreement already).
 struct Stopped {};
+
+/// Thrown by a spread's loop (MpiSpread) on a process that learned, while it waited for work or
+/// results, that process `rank` failed in the middle of the run (announce_failure()): this one
+/// stops at once and joins the final agreement, where the failed one reports its error.
+struct PeerFailed {
+  int rank = -1;
+};
 
 /// True when this build has MPI (the CMake option IAA_WITH_MPI).
 bool built_with_mpi();
@@ -39,18 +47,31 @@ class World {
   bool active() const { return active_; }
   bool lead() const { return rank_ == 0; }
 
-  /// Outcome of an agreement: whether every process was fine, and whether the lead was.
+  /// Outcome of an agreement: whether every process was fine, and whether the lead was free of
+  /// an error of its own (it may have stopped for another's, PeerFailed).
   struct Outcome {
     bool all_ok = true;
     bool lead_ok = true;
     bool timed_out = false;  ///< the deadline passed first (the others are stuck or gone)
+    bool others_ok = true;   ///< no process but the lead met an error of its own
   };
-  /// Collective: every process says whether it is fine. Waits without spinning, or at most
-  /// `deadline` seconds when positive.
+  /// Collective: every process says whether it is fine, and whether it met an error of its own
+  /// (`own_error`; by default, not being fine). Waits without spinning, or at most `deadline`
+  /// seconds when positive. Agreements have a communicator of their own, so that a loop of a
+  /// spread that a failure left unfinished does not meet them.
   Outcome agree(bool ok, double deadline = 0);
+  Outcome agree(bool ok, bool own_error, double deadline);
   /// The command's agreement after its input checks: returns when every process is fine, throws
   /// Stopped otherwise. Does nothing in a world of one process.
   void agree_input();
+  /// The command's agreement after its work, before the lead writes anything: returns when every
+  /// process is fine, throws Stopped otherwise (a process failed after the last loop it shared,
+  /// and no file must be written). Does nothing in a world of one process.
+  void agree_done();
+  /// Tells every other process, without waiting, that this one failed in the middle of the run
+  /// (after agree_input()): their spreads stop the loop they are in or the next one they start
+  /// (PeerFailed) instead of waiting for this process's share. Call it before the final agree().
+  void announce_failure();
   /// True once agree() has been called (the command passed its input checks everywhere).
   bool agreed() const { return agreed_; }
 

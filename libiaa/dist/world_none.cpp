@@ -30,7 +30,15 @@ World::Outcome World::agree(bool ok, double) {
   return {ok, ok};
 }
 
+World::Outcome World::agree(bool ok, bool own_error, double) {
+  return {ok, !own_error, false, true};
+}
+
 void World::agree_input() {}
+
+void World::agree_done() {}
+
+void World::announce_failure() {}
 
 std::unique_ptr<Spread> World::spread() {
   return nullptr;

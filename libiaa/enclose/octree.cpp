@@ -579,24 +579,29 @@ SpreadBalance enclose_spread(Shared& sh, const std::vector<Index>& frontier, int
     tbb::parallel_for(0, threads, [&](int) {
       RoundingScope scope;
       SubtreeWorker w(sh);
-      for (std::int64_t k = spread.next(); k >= 0; k = spread.next()) {
-        const auto i = static_cast<std::size_t>(k);
-        std::string& res = results[i];
-        if (sh.over_limit.load(std::memory_order_relaxed)) {
-          put_bytes(res, std::uint8_t{1});
-          continue;
+      try {
+        for (std::int64_t k = spread.next(); k >= 0; k = spread.next()) {
+          const auto i = static_cast<std::size_t>(k);
+          std::string& res = results[i];
+          if (sh.over_limit.load(std::memory_order_relaxed)) {
+            put_bytes(res, std::uint8_t{1});
+            continue;
+          }
+          w.start(frontier[i], level);
+          w.visit(frontier[i], level, nullptr);
+          w.flush();
+          const std::vector<Cell>& cells = w.cells();
+          put_bytes(res, std::uint8_t{0});
+          put_bytes(res, w.evaluations());
+          put_bytes(res, w.corner_evaluations());
+          put_bytes(res, w.expansion_signs());
+          res.append(reinterpret_cast<const char*>(cells.data()), cells.size() * sizeof(Cell));
+          work[i] = w.evaluations() + w.corner_evaluations();
+          phase.advance(1);
         }
-        w.start(frontier[i], level);
-        w.visit(frontier[i], level, nullptr);
-        w.flush();
-        const std::vector<Cell>& cells = w.cells();
-        put_bytes(res, std::uint8_t{0});
-        put_bytes(res, w.evaluations());
-        put_bytes(res, w.corner_evaluations());
-        put_bytes(res, w.expansion_signs());
-        res.append(reinterpret_cast<const char*>(cells.data()), cells.size() * sizeof(Cell));
-        work[i] = w.evaluations() + w.corner_evaluations();
-        phase.advance(1);
+      } catch (...) {
+        spread.fail();  // the process's other threads stop too
+        throw;
       }
     });
   });

@@ -18,12 +18,15 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 #include "core/big_allocator.h"
 #include "core/error.h"
+#include "core/spread.h"
 #include "enclose/octree.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
@@ -489,6 +492,18 @@ bool locally_certified(Evaluators& e, const Box3& b, const Index3& at, std::uint
   return true;
 }
 
+/// A piece of phase 1 over a list of cells when processes share it (refine_spread()): a leaf that
+/// the top levels already made, or a subtree left to refine, with the gradient enclosures that
+/// its parent hands down (Refiner::refine()'s `parent` and `own`).
+struct Subtree {
+  Index3 at;
+  int depth;
+  Leaf leaf;  ///< when `done`
+  bool done;
+  bool has_parent, has_own;
+  IGrad parent, own;
+};
+
 /// Phase 1: refines one cell into leaves (depth-first order).
 class Refiner {
  public:
@@ -535,6 +550,31 @@ class Refiner {
     for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   }
 
+  /// The first `levels` levels of refine() below a cell, done here: the leaves they make and the
+  /// subtrees below them, in refine()'s order (refine_spread()). The leaves are not counted
+  /// (settle() counts every leaf of the loop at its end).
+  void expand_top(Evaluators& e, const Index3& at, int depth, int levels, std::vector<Subtree>& out,
+                  const IGrad* parent = nullptr, const IGrad* own = nullptr) const {
+    if (levels == 0) {
+      Subtree t{at, depth, {}, false, parent != nullptr, own != nullptr, {}, {}};
+      if (parent) t.parent = *parent;
+      if (own) t.own = *own;
+      out.push_back(t);
+      return;
+    }
+    IGrad g;
+    bool smooth = false;
+    Children kids;
+    if (const std::optional<Leaf> l = classify(e, at, depth, parent, own, g, smooth, kids)) {
+      out.push_back(Subtree{at, depth, *l, true, false, false, {}, {}});
+      return;
+    }
+    for (std::size_t k = 0; k < 8; ++k) {
+      expand_top(e, child(at, depth, int(k)), depth + 1, levels - 1, out, smooth ? &g : nullptr,
+                 kids.valid ? &kids.g[k] : nullptr);
+    }
+  }
+
   /// Adds the thread's pending leaves to the shared count; throws when it exceeds the limit, or
   /// when the run was cancelled (checked every 1024 leaves).
   void flush(Evaluators& e) const {
@@ -542,10 +582,22 @@ class Refiner {
     const std::uint64_t n = e.pending_leaves;
     e.pending_leaves = 0;
     if (count_.fetch_add(n, std::memory_order_relaxed) + n > settings_.max_boxes) {
-      throw SettingError("certified mesh: more than " + std::to_string(settings_.max_boxes) +
-                         " leaves are needed (the box limit); raise the limit or lower the "
-                         "maximum depth");
+      throw_over_limit();
     }
+  }
+
+  /// The leaf count at the start of a shared loop (refine_spread()).
+  std::uint64_t count() const { return count_.load(); }
+  /// Sets the leaf count after a shared loop, in which this process counted only its own
+  /// leaves; throws as flush() does when it exceeds the limit.
+  void settle(std::uint64_t count) const {
+    count_.store(count);
+    if (count > settings_.max_boxes) throw_over_limit();
+  }
+  [[noreturn]] void throw_over_limit() const {
+    throw SettingError("certified mesh: more than " + std::to_string(settings_.max_boxes) +
+                       " leaves are needed (the box limit); raise the limit or lower the "
+                       "maximum depth");
   }
 
  private:
@@ -1405,10 +1457,127 @@ Grid make_grid(const CertifiedMeshSettings& s) {
   return g;
 }
 
+/// What the loops shared with other processes add up to (refine_spread()).
+struct SpreadTally {
+  /// Interval evaluations of the subtrees other processes refined: added to this process's own
+  /// count, they make the one-process count.
+  std::uint64_t remote_evaluations = 0;
+  SpreadBalance balance;  ///< per process, summed over the loops
+
+  void add(const SpreadBalance& b) {
+    if (balance.ranks.empty()) balance.ranks.resize(b.ranks.size());
+    for (std::size_t k = 0; k < b.ranks.size(); ++k) {
+      RankLoad& l = balance.ranks[k];
+      l.items += b.ranks[k].items;
+      l.work += b.ranks[k].work;
+      l.busy += b.ranks[k].busy;
+      l.idle += b.ranks[k].idle;
+    }
+  }
+};
+
+static_assert(std::is_trivially_copyable_v<Leaf>, "leaves travel between processes as bytes");
+
+/// Phase 1 over a list of cells shared with other processes (Exec::spread): every process does
+/// the first levels below the cells (a few hundred cells: cheap, and the same in each), so that
+/// there are enough subtrees to share (at least 256 per process, up to 4 levels); the spread
+/// hands the subtrees out, each is refined by one thread of one process, and every process ends
+/// with every subtree's leaves, put together in the order of refine_all(): the same leaves.
+/// A subtree that would take this process over the box limit is sent as "over the limit", so that
+/// every process throws the same error after the loop rather than one alone in the middle of it.
+Leaves refine_spread(const Refiner& r, const std::vector<std::pair<Index3, int>>& cells,
+                     ThreadEvaluators& evals, const Exec& exec, SpreadTally& tally) {
+  Spread& spread = *exec.spread;
+  const std::uint64_t before = r.count();
+  int levels = 0;
+  while (levels < 4 && (cells.size() << (3 * levels)) < 256 * std::size_t(spread.size())) ++levels;
+  std::vector<Subtree> tasks;
+  {
+    RoundingScope scope;
+    Evaluators& e = *evals.local();
+    for (const auto& c : cells) r.expand_top(e, c.first, c.second, levels, tasks);
+  }
+  std::vector<std::size_t> items;  // the tasks that are subtrees
+  for (std::size_t t = 0; t < tasks.size(); ++t) {
+    if (!tasks[t].done) items.push_back(t);
+  }
+  const std::size_t n = items.size();
+  std::vector<std::string> results(n);
+  std::vector<std::uint64_t> work(n, 0);
+  std::vector<char> mine(n, 0);
+  std::atomic<bool> over{false};
+  spread.begin(n, nullptr);
+  const int threads = exec.resolved_threads();
+  exec.run([&] {
+    tbb::parallel_for(0, threads, [&](int) {
+      RoundingScope scope;
+      Evaluators& e = *evals.local();
+      Leaves out;
+      try {
+        for (std::int64_t k = spread.next(); k >= 0; k = spread.next()) {
+          const auto i = static_cast<std::size_t>(k);
+          mine[i] = 1;
+          std::string& res = results[i];
+          if (over.load(std::memory_order_relaxed)) {
+            put_bytes(res, std::uint8_t{1});
+            continue;
+          }
+          const Subtree& t = tasks[items[i]];
+          const std::uint64_t e0 = e.evaluations;
+          out.clear();
+          try {
+            r.refine(e, t.at, t.depth, out, t.has_parent ? &t.parent : nullptr,
+                     t.has_own ? &t.own : nullptr);
+          } catch (const SettingError&) {  // this process alone is over the box limit
+            over.store(true);
+            put_bytes(res, std::uint8_t{1});
+            continue;
+          }
+          work[i] = e.evaluations - e0;
+          put_bytes(res, std::uint8_t{0});
+          res.append(reinterpret_cast<const char*>(out.data()), out.size() * sizeof(Leaf));
+        }
+      } catch (...) {
+        spread.fail();  // the process's other threads stop too
+        throw;
+      }
+    });
+  });
+  // This process's leaves were counted as they were made; the count is settled below.
+  for (auto& e : evals) e->pending_leaves = 0;
+  tally.add(spread.finish(results, work));
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (results[i][0] != 0) over.store(true);
+    total += (results[i].size() - 1) / sizeof(Leaf);
+    if (!mine[i]) tally.remote_evaluations += work[i];
+  }
+  if (over.load()) r.throw_over_limit();
+  for (const Subtree& t : tasks) total += t.done;
+  r.settle(before + total);
+  Leaves leaves;
+  leaves.reserve(total);
+  std::size_t next = 0;
+  for (std::size_t t = 0; t < tasks.size(); ++t) {
+    if (tasks[t].done) {
+      leaves.push_back(tasks[t].leaf);
+      continue;
+    }
+    const std::string& res = results[next++];
+    const std::size_t count = (res.size() - 1) / sizeof(Leaf);
+    const std::size_t at = leaves.size();
+    leaves.resize(at + count);
+    std::memcpy(static_cast<void*>(leaves.data() + at), res.data() + 1, count * sizeof(Leaf));
+  }
+  return leaves;
+}
+
 /// Phase 1 over a list of cells, in parallel; leaves in the order of the cells, each cell's
-/// leaves depth-first, whatever the thread count.
+/// leaves depth-first, whatever the thread count (and the number of processes, with
+/// Exec::spread and a tally).
 Leaves refine_all(const Refiner& r, const std::vector<std::pair<Index3, int>>& cells,
-                  ThreadEvaluators& evals, const Exec& exec) {
+                  ThreadEvaluators& evals, const Exec& exec, SpreadTally* tally = nullptr) {
+  if (exec.spread && tally) return refine_spread(r, cells, evals, exec, *tally);
   std::vector<Leaves> parts(cells.size());
   // Few cells (a scene of one root cell): their top levels split in parallel too, so that there
   // are at least 256 tasks.
@@ -1461,7 +1630,8 @@ struct Split {
 };
 
 Split split_failed(const Grid& grid, const Refiner& r, const Leaves& leaves,
-                   const BigVector<CellOut>& outs, ThreadEvaluators& evals, const Exec& exec) {
+                   const BigVector<CellOut>& outs, ThreadEvaluators& evals, const Exec& exec,
+                   SpreadTally& tally) {
   Split out;
   std::vector<std::pair<Index3, int>> cells;
   std::vector<std::size_t> where;
@@ -1479,7 +1649,7 @@ Split split_failed(const Grid& grid, const Refiner& r, const Leaves& leaves,
     where.push_back(i);
   }
   if (where.empty()) return out;
-  const Leaves fresh = refine_all(r, cells, evals, exec);
+  const Leaves fresh = refine_all(r, cells, evals, exec, &tally);
   // The new leaves of where[j] follow each other in `fresh`, in the order of `where`.
   out.leaves.reserve(leaves.size() + fresh.size());
   std::size_t next = 0, w = 0;
@@ -1772,7 +1942,8 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
     phase_seconds += std::chrono::duration<double>(now - clock).count();
     clock = now;
   };
-  Leaves leaves = refine_all(refiner, roots, evals, exec);
+  SpreadTally tally;
+  Leaves leaves = refine_all(refiner, roots, evals, exec, &tally);
   lap(st.seconds_refine);
   // Round 1 extracts every leaf; later rounds only the new leaves and those touching a split one.
   Round r;
@@ -1784,7 +1955,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   for (;;) {
     if (phase.cancelled()) throw Error("certified mesh: cancelled");
     ++st.rounds;
-    Split sp = split_failed(grid, refiner, leaves, r.outs, evals, exec);
+    Split sp = split_failed(grid, refiner, leaves, r.outs, evals, exec, tally);
     lap(st.seconds_refine);
     if (sp.split.empty()) break;
     add_vertices(r.table, grid, sp.fresh, evals, exec);
@@ -1805,7 +1976,9 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   assemble(grid, leaves, r, settings.strict, exec, m);
   st.leaves = leaves.size();
   st.roots = certified_root_cells(settings);
+  st.interval_evaluations = tally.remote_evaluations;
   for (const auto& e : evals) st.interval_evaluations += e->evaluations;
+  m.balance = std::move(tally.balance);
   lap(st.seconds_assemble);
   phase.advance(1);
   return m;

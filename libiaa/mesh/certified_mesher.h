@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "core/exec.h"
+#include "core/spread.h"
 #include "core/vec.h"
 #include "expr/tape.h"
 #include "mesh/triangle_soup.h"
@@ -115,6 +116,9 @@ struct CertifiedMesh {
   TriangleSoup soup;
   CertifiedMeshStats stats;
   std::vector<UncertifiedCell> uncertified;
+  /// How the refinement was shared between processes (Exec::spread), summed over its loops (the
+  /// first refinement and the refinement of split leaves in later rounds); empty without one.
+  SpreadBalance balance;
 };
 
 /// Root cells per axis for these settings: powers of two that make the root cells near cubes.
@@ -128,7 +132,9 @@ int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge)
 /// twice the voxel's edge give meshes of about the size of a grid of N per axis.
 int certified_depth_for_resolution(const CertifiedMeshSettings& settings, int resolution);
 
-/// Meshes f = 0 in settings.bounds. The result is identical for any thread count. Throws
+/// Meshes f = 0 in settings.bounds. The result is identical for any thread count, and, with
+/// Exec::spread, for any number of processes (the refinement's subtrees are shared; the global
+/// rounds of extraction run in every process alike). Throws
 /// SettingError on invalid settings or when settings.max_boxes leaves would be exceeded.
 CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,
                              const Exec& exec = {});

@@ -238,11 +238,16 @@ void render_spread(const RenderSetup& setup, Film& film,
     tbb::parallel_for(0, threads, [&](int) {
       RoundingScope scope;
       RenderContext ctx(setup);
-      for (std::int64_t i = spread.next(); i >= 0; i = spread.next()) {
-        const auto k = static_cast<std::size_t>(i);
-        counts[k] = render_root(ctx, film, roots[k].first, roots[k].second);
-        mine[k] = 1;
-        phase.advance(1);
+      try {
+        for (std::int64_t i = spread.next(); i >= 0; i = spread.next()) {
+          const auto k = static_cast<std::size_t>(i);
+          counts[k] = render_root(ctx, film, roots[k].first, roots[k].second);
+          mine[k] = 1;
+          phase.advance(1);
+        }
+      } catch (...) {
+        spread.fail();  // the process's other threads stop too
+        throw;
       }
     });
   });

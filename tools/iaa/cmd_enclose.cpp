@@ -20,6 +20,7 @@
 #include "enclose/octree.h"
 #include "expr/tape.h"
 #include "iaa/command.h"
+#include "iaa/command_spread.h"
 #ifdef IAA_HAVE_VIZ
 #include "viz/enclosure_pvtu.h"
 #include "viz/enclosure_vtk.h"
@@ -268,12 +269,14 @@ void run(const EncloseOptions& o) {
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
-  const std::unique_ptr<Spread> spread = world ? world->spread() : nullptr;
+  const std::unique_ptr<Spread> spread = command_spread(world);
   exec.spread = spread.get();
   app::EncloseTimes t;
   const auto t0 = std::chrono::steady_clock::now();
   const Enclosure enc = app::run_enclose(*surface.tape, s, exec);
   t.enclose = seconds_since(t0);
+  // Every process finished its share: only then is anything written.
+  if (world) world->agree_done();
 #ifdef IAA_HAVE_VIZ
   if (!o.output.empty() && app::extension_of(o.output) == "pvtu") {
     t.write = write_pvtu(o.output, surface, s, enc, world);

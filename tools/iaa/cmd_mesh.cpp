@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <memory>
 
+#include "app/balance.h"
 #include "app/files.h"
 #include "app/progress_bar.h"
 #include "core/error.h"
 #include "dist/world.h"
 #include "iaa/command.h"
+#include "iaa/command_spread.h"
 #include "iaa/mesh_common.h"
 #include "mesh/mesh_io.h"
 #ifdef IAA_HAVE_VIZ
@@ -135,6 +137,8 @@ void print_summary(const MeshOptions& o, meshing::Method method, const meshing::
                 run.details["unmeshed_possible_leaves"].dump().c_str());
   }
   if (method == meshing::Method::kCertified) print_certificate(run);
+  if (!run.balance.ranks.empty())
+    std::printf("MPI          %s\n", app::balance_summary(run.balance).c_str());
   if (duplicated) {
     std::printf("note         %zu vertices duplicated to write non-manifold triangles\n",
                 duplicated);
@@ -180,7 +184,7 @@ void run(const MeshOptions& o) {
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
-  const std::unique_ptr<Spread> spread = world ? world->spread() : nullptr;
+  const std::unique_ptr<Spread> spread = command_spread(world);
   exec.spread = spread.get();
   meshing::MeshRun run = meshing::run_mesher(method, surface, o.p, exec);
   check_found_surface(run, method);
@@ -190,13 +194,16 @@ void run(const MeshOptions& o) {
   const Mesh mesh = Mesh::from_triangles(run.soup);
   run.soup = {};
   const std::size_t duplicated = mesh.duplicated_vertices();
-  if (lead) write_files(o, format, mesh, run, surface);
   // The TriMesh as plain triangles (vertex copies merged back) once, for the report and the
   // self-intersection count.
   const TriangleSoup soup = mesh.triangles();
   const MeshReport rep = analyze(o, method, surface, soup, mesh.precision(), run, exec);
   bar.finish();
+  // Every process finished its share (the report's enclosure is shared too): only then does the
+  // lead write.
+  if (world) world->agree_done();
   if (!lead) return;
+  write_files(o, format, mesh, run, surface);
 
   print_summary(o, method, surface, run, rep, duplicated);
   if (!o.report.empty()) write_report(o, method, format, surface, run, rep, soup, duplicated);

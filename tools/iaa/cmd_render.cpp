@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "dist/world.h"
 #include "iaa/command.h"
+#include "iaa/command_spread.h"
 #include "iaa/render_flags.h"
 #include "render/render.h"
 
@@ -85,9 +86,11 @@ void run(const RenderOptions& o) {
   Exec exec;
   exec.threads = o.threads;
   exec.progress = &bar;
-  const std::unique_ptr<Spread> spread = world ? world->spread() : nullptr;
+  const std::unique_ptr<Spread> spread = command_spread(world);
   exec.spread = spread.get();
   const Film film = render(scene, st, exec);
+  // Every process finished its share: only then does the lead write.
+  if (world) world->agree_done();
   if (!lead) return;
 
   app::write_png(o.out, app::color_image(film));

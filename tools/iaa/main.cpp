@@ -39,9 +39,11 @@ const Command* named_command(int argc, char** argv) {
   return nullptr;
 }
 
-/// Prints an error, with the rank of the process that met it when it is not the lead.
-void print_error(const std::string& cmd, const std::string& what, const iaa::dist::World& w) {
-  if (w.size() > 1 && !w.lead()) {
+/// Prints an error, with the rank of the process that met it when it is not the lead, or when
+/// the lead alone met it (`alone`: in the middle of the run, not bad input that all would see).
+void print_error(const std::string& cmd, const std::string& what, const iaa::dist::World& w,
+                 bool alone = false) {
+  if (w.size() > 1 && (!w.lead() || alone)) {
     std::fprintf(stderr, "%s: error (MPI rank %d): %s\n", cmd.c_str(), w.rank(), what.c_str());
   } else {
     std::fprintf(stderr, "%s: error: %s\n", cmd.c_str(), what.c_str());
@@ -78,6 +80,7 @@ int main(int argc, char** argv) {
   }
 
   std::string cmd = "iaa", error;
+  bool stopped = false;
   if (const Command* c = named_command(argc, argv)) cmd = "iaa " + c->name;
   if (world->size() > 1) {
     // Every process decides the same from the same arguments: no agreement is needed.
@@ -99,7 +102,9 @@ int main(int argc, char** argv) {
     if (!world->lead()) return e.get_exit_code();
     return app.exit(e);
   } catch (const iaa::dist::Stopped&) {
-    return 1;  // another process failed its input checks and said so
+    return 1;  // another process failed and said so at an agreement, which this one took part in
+  } catch (const iaa::dist::PeerFailed&) {
+    stopped = true;  // another process failed in the middle of the run: it reports why
   } catch (const iaa::Error& e) {
     error = e.what();
   } catch (const std::bad_alloc&) {
@@ -113,14 +118,21 @@ int main(int argc, char** argv) {
     return 1;
   }
   // Under mpirun: agree on the outcome. A process that failed before the command's own agreement
-  // joins that one; otherwise this is the final one. A process that failed waits at most 10 s for
-  // the others (they may be waiting for its share of a loop): then it ends the whole run.
-  const bool ok = error.empty();
-  const iaa::dist::World::Outcome out = world->agree(ok, ok ? 0.0 : 10.0);
+  // joins that one; otherwise this is the final one (or the one before the outputs are written,
+  // World::agree_done(), where the others are). A process that failed after the input checks first
+  // tells the others, whose loops then stop at once (PeerFailed) and join this agreement; it
+  // waits at most 10 s for them (one may be stuck or gone), then ends the whole run.
+  const bool ok = error.empty() && !stopped;
+  if (!error.empty()) world->announce_failure();
+  const iaa::dist::World::Outcome out = world->agree(ok, !error.empty(), ok ? 0.0 : 10.0);
   if (out.timed_out) {
-    print_error(cmd, error + " (the other processes did not answer: ending the run)", *world);
+    if (!error.empty()) {
+      print_error(cmd, error + " (the other processes did not answer: ending the run)", *world);
+    }
     world->abort(1);
   }
-  if (!ok && (world->lead() || out.lead_ok)) print_error(cmd, error, *world);
+  if (!error.empty() && (world->lead() || out.lead_ok)) {
+    print_error(cmd, error, *world, world->lead() && out.others_ok);
+  }
   return out.all_ok ? 0 : 1;
 }
