@@ -1603,11 +1603,110 @@ struct Round {
   BigVector<CellOut> outs;  ///< per leaf (empty for empty leaves)
 };
 
+/// Appends a vector of trivially copyable values to an item's result (its size, then its bytes).
+template <class T>
+void put_vector(std::string& out, const std::vector<T>& v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  put_bytes(out, std::uint64_t(v.size()));
+  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+/// Reads back what put_vector() wrote at `pos`, and moves `pos` past it.
+template <class T>
+void take_vector(const std::string& in, std::size_t& pos, std::vector<T>& v) {
+  v.resize(take_bytes<std::uint64_t>(in, pos));
+  std::memcpy(static_cast<void*>(v.data()), in.data() + pos, v.size() * sizeof(T));
+  pos += v.size() * sizeof(T);
+}
+
+/// Leaves per item of a shared extraction.
+constexpr std::size_t kExtractItem = 256;
+
+/// extract_all() shared with other processes (Exec::spread): the leaves in items of
+/// kExtractItem; each process extracts the items the spread hands it, and every process ends with
+/// every leaf's CellOut. Each leaf's CellOut depends on the leaf and the vertex table alone (the
+/// crossings an extractor keeps for the leaves after it are placed the same by any extractor), so
+/// they are the one-process ones.
+void extract_spread(const Grid& grid, const Leaves& leaves, const VertexTable& table,
+                    const CertifiedMeshSettings& s, ThreadEvaluators& evals, const Exec& exec,
+                    BigVector<CellOut>& outs, const std::vector<char>* todo, SpreadTally& tally) {
+  Spread& spread = *exec.spread;
+  const std::size_t n = (leaves.size() + kExtractItem - 1) / kExtractItem;
+  std::vector<std::string> results(n);
+  std::vector<std::uint64_t> work(n, 0);
+  std::vector<char> mine(n, 0);
+  spread.begin(n, nullptr);
+  exec.run([&] {
+    tbb::parallel_for(0, exec.resolved_threads(), [&](int) {
+      RoundingScope scope;
+      Evaluators& e = *evals.local();
+      try {
+        for (std::int64_t k = spread.next(); k >= 0; k = spread.next()) {
+          const auto item = static_cast<std::size_t>(k);
+          if (exec.progress && exec.progress->cancelled()) throw Error("certified mesh: cancelled");
+          mine[item] = 1;
+          const std::uint64_t e0 = e.evaluations;
+          Extractor x(grid, table, s, e);
+          std::string& res = results[item];
+          const std::size_t end = std::min(leaves.size(), (item + 1) * kExtractItem);
+          for (std::size_t i = item * kExtractItem; i < end; ++i) {
+            if ((todo && !(*todo)[i]) || leaves[i].kind == Kind::kEmpty) continue;
+            outs[i] = x.run(leaves[i]);
+            const CellOut& o = outs[i];
+            put_bytes(res, std::uint32_t(i - item * kExtractItem));
+            put_bytes(res,
+                      std::uint8_t(o.split | o.uncertain << 1 | o.blocked << 2 | o.refine << 3));
+            put_bytes(res, o.open_chains);
+            put_bytes(res, std::uint64_t(o.crossings.size()));
+            for (const auto& [key, p] : o.crossings) {
+              put_bytes(res, key);
+              put_bytes(res, p);
+            }
+            put_vector(res, o.centres);
+            put_vector(res, o.triangles);
+          }
+          work[item] = e.evaluations - e0;
+        }
+      } catch (...) {
+        spread.fail();  // the process's other threads stop too
+        throw;
+      }
+    });
+  });
+  tally.add(spread.finish(results, work));
+  for (std::size_t item = 0; item < n; ++item) {
+    if (mine[item]) continue;
+    tally.remote_evaluations += work[item];
+    const std::string& res = results[item];
+    std::size_t pos = 0;
+    while (pos < res.size()) {
+      const std::size_t i = item * kExtractItem + take_bytes<std::uint32_t>(res, pos);
+      CellOut& o = outs[i];
+      const auto flags = take_bytes<std::uint8_t>(res, pos);
+      o.split = flags & 1;
+      o.uncertain = flags & 2;
+      o.blocked = flags & 4;
+      o.refine = flags & 8;
+      o.open_chains = take_bytes<std::uint64_t>(res, pos);
+      o.crossings.resize(take_bytes<std::uint64_t>(res, pos));
+      for (auto& [key, p] : o.crossings) {
+        key = take_bytes<Key>(res, pos);
+        p = take_bytes<Vec3>(res, pos);
+      }
+      take_vector(res, pos, o.centres);
+      take_vector(res, pos, o.triangles);
+    }
+  }
+}
+
 /// Extraction of every non-empty leaf, or of those `todo` marks (CellOut per leaf, empty for
-/// empty leaves).
+/// empty leaves); shared with other processes with Exec::spread and a tally.
 void extract_all(const Grid& grid, const Leaves& leaves, const VertexTable& table,
                  const CertifiedMeshSettings& s, ThreadEvaluators& evals, const Exec& exec,
-                 BigVector<CellOut>& outs, const std::vector<char>* todo = nullptr) {
+                 BigVector<CellOut>& outs, const std::vector<char>* todo = nullptr,
+                 SpreadTally* tally = nullptr) {
+  if (exec.spread && tally)
+    return extract_spread(grid, leaves, table, s, evals, exec, outs, todo, *tally);
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](auto range) {
       if (exec.progress && exec.progress->cancelled()) throw Error("certified mesh: cancelled");
@@ -1950,7 +2049,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   add_vertices(r.table, grid, leaves, evals, exec);
   lap(st.seconds_table);
   r.outs.resize(leaves.size());
-  extract_all(grid, leaves, r.table, settings, evals, exec, r.outs);
+  extract_all(grid, leaves, r.table, settings, evals, exec, r.outs, nullptr, &tally);
   lap(st.seconds_extract);
   for (;;) {
     if (phase.cancelled()) throw Error("certified mesh: cancelled");
@@ -1969,7 +2068,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
         outs[i] = std::move(r.outs[std::size_t(sp.origin[i])]);
     }
     leaves = std::move(sp.leaves);
-    extract_all(grid, leaves, r.table, settings, evals, exec, outs, &todo);
+    extract_all(grid, leaves, r.table, settings, evals, exec, outs, &todo, &tally);
     r.outs = std::move(outs);
     lap(st.seconds_extract);
   }
