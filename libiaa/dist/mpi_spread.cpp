@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <numeric>
 
 #include "core/error.h"
 #include "core/exec.h"
@@ -23,16 +22,6 @@ constexpr int kResultsTag = 103;  // rank > 0 to rank 0: its items' results at t
 /// numbers are unique in the process, so one per thread is enough.
 std::atomic<std::uint64_t> g_loops{0};
 thread_local std::uint64_t t_loop = 0;
-
-/// The stride of the order in which the items are handed out: the first integer from n / phi up
-/// that is coprime with n, so that position j -> j * stride mod n visits every item once and
-/// consecutive positions land far apart (1 for n beyond 2^32, where j * stride could overflow).
-std::uint64_t scatter_stride(std::uint64_t n) {
-  if (n < 3 || n >= (std::uint64_t{1} << 32)) return 1;
-  for (std::uint64_t s = std::uint64_t(double(n) * 0.6180339887498949);; ++s) {
-    if (std::gcd(s, n) == 1) return s;
-  }
-}
 
 }  // namespace
 
@@ -61,7 +50,6 @@ void MpiSpread::begin(std::uint64_t items, const ProgressPhase* phase) {
   pending_ = false;
   finished_ = 0;
   remote_done_ = 0;
-  stride_ = scatter_stride(items);
   loop_ = ++g_loops;
   failed_ = false;
   stop_ = false;
@@ -72,10 +60,6 @@ void MpiSpread::begin(std::uint64_t items, const ProgressPhase* phase) {
   if (world_.rank() == 0 && world_.size() > 1) server_ = std::thread([this] { serve(); });
 }
 
-std::int64_t MpiSpread::item_at(std::uint64_t pos) const {
-  return static_cast<std::int64_t>(pos * stride_ % items_);
-}
-
 std::int64_t MpiSpread::take(int rank, std::uint64_t* count) {
   const std::uint64_t left = items_ - next_item_;
   // Guided: a quarter of this rank's share of what is left, at least one. Few requests while
@@ -84,7 +68,7 @@ std::int64_t MpiSpread::take(int rank, std::uint64_t* count) {
       std::min(left, std::max<std::uint64_t>(1, left / (4 * std::uint64_t(world_.size()))));
   *count = n;
   if (n == 0) return -1;
-  for (std::uint64_t k = 0; k < n; ++k) owner_[std::size_t(item_at(next_item_ + k))] = rank;
+  for (std::uint64_t k = 0; k < n; ++k) owner_[next_item_ + k] = rank;
   const auto first = static_cast<std::int64_t>(next_item_);
   next_item_ += n;
   return first;
@@ -110,8 +94,8 @@ std::int64_t MpiSpread::next() {
     if (const int r = peer_failed_; r >= 0) throw PeerFailed{r};
     // Rank 0's own threads take one item at a time: no messages to save.
     if (next_item_ < items_) {
-      item = item_at(next_item_++);
-      owner_[std::size_t(item)] = 0;
+      owner_[next_item_] = 0;
+      item = static_cast<std::int64_t>(next_item_++);
     }
   } else {
     if (finished_one) ++finished_;
@@ -126,7 +110,7 @@ std::int64_t MpiSpread::next() {
         ahead_hi_ = reply_[0] + reply_[1];
       }
     }
-    if (ahead_lo_ < ahead_hi_) item = item_at(std::uint64_t(ahead_lo_++));
+    if (ahead_lo_ < ahead_hi_) item = ahead_lo_++;
     // Ask for more as the last item at hand starts, so that the answer arrives while it is
     // computed: the round trip to rank 0's service thread is then hidden behind the work.
     if (item >= 0 && ahead_lo_ == ahead_hi_ && !pending_) request();

@@ -3,9 +3,6 @@
 // their costs vary by 100x (a root block of background costs one evaluation, one
 // on a silhouette thousands); every rank computes its items with its own threads, and at the end
 // the results are gathered on rank 0 and broadcast, so that every rank holds the whole result.
-// The items go out in a scattered order (j * stride mod n, stride near n / phi): neighbouring
-// items cost alike (the blocks along a silhouette, the subtrees of one region), and a chunk of
-// consecutive ones would put a whole costly region into one rank's hands.
 //
 // On rank 0 a service thread answers the other ranks' requests while rank 0's own threads work;
 // the other ranks ask for their next item as soon as they start one, so that the round trip is
@@ -47,16 +44,14 @@ class MpiSpread final : public Spread {
   void serve();  // rank 0's service thread: answers requests until every rank had its last reply
   std::int64_t take(int rank, std::uint64_t* count);  // rank 0: items for another rank
   void request();  // rank > 0: asks rank 0 for an item, reporting the items finished since
-  std::int64_t item_at(std::uint64_t pos) const;  // the item handed out at position `pos`
 
   World& world_;
   std::uint64_t items_ = 0;
   const ProgressPhase* phase_ = nullptr;
-  std::mutex mutex_;             // the next item (rank 0) or the request channel (other ranks)
-  std::uint64_t next_item_ = 0;  // the next position in the order of hand-out (item_at())
-  std::uint64_t stride_ = 1;     // that order: position j is item j * stride_ mod items_
-  std::vector<int> owner_;       // rank 0: which rank took each item
-  bool exhausted_ = false;       // this rank was told there is nothing left
+  std::mutex mutex_;  // the next item (rank 0) or the request channel (other ranks)
+  std::uint64_t next_item_ = 0;
+  std::vector<int> owner_;                    // rank 0: which rank took each item
+  bool exhausted_ = false;                    // this rank was told there is nothing left
   std::int64_t ahead_lo_ = 0, ahead_hi_ = 0;  // rank > 0: items received, not yet started
   bool pending_ = false;                      // rank > 0: a request is on its way (pending_req_)
   MPI_Request pending_req_{};                 // its reply, into reply_
