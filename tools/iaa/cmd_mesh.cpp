@@ -174,8 +174,9 @@ void run(const MeshOptions& o) {
   const meshing::Surface surface =
       meshing::load_surface(o.scene, o.expr, o.bounds, o.params, o.sets);
   o.p.validate();
-  // Under mpirun the enclosures (the octree mesher's, the report's check) are shared by the
-  // processes; every process then meshes the same and the lead writes (docs/distributed.md).
+  // Under mpirun the processes share the certified mesher's refinement and extraction, and the
+  // enclosures (the octree mesher's, the report's check); every process ends with the same mesh
+  // and the lead writes (docs/distributed.md).
   dist::World* world = dist::World::current();
   const bool lead = !world || world->lead();
   if (world) world->agree_input();
@@ -276,8 +277,9 @@ void setup(CLI::App& app) {
       "--max-depth without a certificate are meshed best-effort, counted, and written by\n"
       "--uncertified. With --method octree, leaves that may hold surface but show no sign change\n"
       "are counted, never dropped silently.\n"
-      "Under mpirun (mpirun -np 4 iaa mesh ... --method octree --threads 1) the processes share\n"
-      "the octree's subtrees; the mesh and report are one process's (docs/distributed.md).");
+      "Under mpirun (mpirun -np 4 iaa mesh ... --threads 1) the processes share the certified\n"
+      "mesher's refinement and extraction (octree: its enclosure); the mesh and report are one\n"
+      "process's (docs/distributed.md).");
   app.callback([o] { run(*o); });
 }
 
