@@ -1457,10 +1457,10 @@ Grid make_grid(const CertifiedMeshSettings& s) {
   return g;
 }
 
-/// What the loops shared with other processes add up to (refine_spread()).
+/// What the loops shared with other processes add up to (refine_spread(), extract_spread()).
 struct SpreadTally {
-  /// Interval evaluations of the subtrees other processes refined: added to this process's own
-  /// count, they make the one-process count.
+  /// Interval evaluations of the items other processes computed (subtrees refined, leaves
+  /// extracted): added to this process's own count, they make the one-process count.
   std::uint64_t remote_evaluations = 0;
   SpreadBalance balance;  ///< per process, summed over the loops
 

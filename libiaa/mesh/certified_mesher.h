@@ -116,8 +116,9 @@ struct CertifiedMesh {
   TriangleSoup soup;
   CertifiedMeshStats stats;
   std::vector<UncertifiedCell> uncertified;
-  /// How the refinement was shared between processes (Exec::spread), summed over its loops (the
-  /// first refinement and the refinement of split leaves in later rounds); empty without one.
+  /// How the work was shared between processes (Exec::spread), summed over the mesher's loops
+  /// (the refinement of the root cells and of split leaves, the extraction of every round);
+  /// empty without a spread.
   SpreadBalance balance;
 };
 
@@ -133,9 +134,9 @@ int certified_depth_for_edge(const CertifiedMeshSettings& settings, double edge)
 int certified_depth_for_resolution(const CertifiedMeshSettings& settings, int resolution);
 
 /// Meshes f = 0 in settings.bounds. The result is identical for any thread count, and, with
-/// Exec::spread, for any number of processes (the refinement's subtrees are shared; the global
-/// rounds of extraction run in every process alike). Throws
-/// SettingError on invalid settings or when settings.max_boxes leaves would be exceeded.
+/// Exec::spread, for any number of processes (the refinement's subtrees and the extraction's
+/// leaves are shared; the table of corners and the assembly run in every process alike).
+/// Throws SettingError on invalid settings or when settings.max_boxes leaves would be exceeded.
 CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& settings,
                              const Exec& exec = {});
 
