@@ -131,9 +131,9 @@ if "$iaa" mesh "$chubs" --method octree --depth 4 -q -o "$tmp/probe.ply" >/dev/n
   ok "mesh, one" "$iaa" mesh "$chubs" --method octree --depth 6 -q -o "$tmp/m1.ply"
   ok "mesh, -np 2" mpi 2 "$iaa" mesh "$chubs" --method octree --depth 6 -q --threads 1 -o "$tmp/m2.ply"
   same "mesh -np 2" "$tmp/m1.ply" "$tmp/m2.ply"
-  ok "mesh certified, one" "$iaa" mesh "$chubs" -q --threads 2 -o "$tmp/c1.ply" --report "$tmp/c1.json"
-  ok "mesh certified, -np 2" mpi 2 "$iaa" mesh "$chubs" -q --threads 1 -o "$tmp/c2.ply" --report "$tmp/c2.json"
-  ok "mesh certified, -np 3" mpi 3 "$iaa" mesh "$chubs" -q --threads 2 -o "$tmp/c3.ply" --report "$tmp/c3.json"
+  ok "mesh certified, one" "$iaa" mesh "$chubs" --min-depth 5 -q --threads 2 -o "$tmp/c1.ply" --report "$tmp/c1.json"
+  ok "mesh certified, -np 2" mpi 2 "$iaa" mesh "$chubs" --min-depth 5 -q --threads 1 -o "$tmp/c2.ply" --report "$tmp/c2.json"
+  ok "mesh certified, -np 3" mpi 3 "$iaa" mesh "$chubs" --min-depth 5 -q --threads 2 -o "$tmp/c3.ply" --report "$tmp/c3.json"
   stable "$tmp/c1.json" > "$tmp/c1.stable"
   for n in c2 c3; do
     same "mesh certified $n" "$tmp/c1.ply" "$tmp/$n.ply"
@@ -170,7 +170,7 @@ for who in 1 0; do
   [ "$took" -le 15 ] || { echo "FAIL: rank $who fails: the run took $took s"; fail=1; }
   grep -q "MPI rank $who" "$tmp/out.txt" || { echo "FAIL: rank $who fails: the message does not name the rank"; cat "$tmp/out.txt"; fail=1; }
 done
-IAA_TEST_FAIL_RANK=2 bad "mesh, rank 2 fails" "(IAA_TEST_FAIL_RANK=2)" mpi 3 "$iaa" mesh "$chubs" -q --threads 1 -o "$tmp/bad/f.ply" --report "$tmp/bad/f.json"
+IAA_TEST_FAIL_RANK=2 bad "mesh, rank 2 fails" "(IAA_TEST_FAIL_RANK=2)" mpi 3 "$iaa" mesh "$chubs" --min-depth 5 -q --threads 1 -o "$tmp/bad/f.ply" --report "$tmp/bad/f.json"
 
 # --- a killed process: the run fails within seconds, says so, and leaves no file.
 big=(--width 1500 --height 1500 --threads 1 -q)
