@@ -2,6 +2,7 @@
 // a Full beam whose estimator is within the threshold, or at max_level; each such leaf is shaded
 // once at a point of its surface and weighted by its area (docs/render.md, "How").
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "render/kernel.h"
@@ -17,24 +18,43 @@ constexpr double kPartialShadeReach = 8.0;
 /// Depth tolerance of the central ray of an IAA part, in footprints of the part (its lateral
 /// width at the depth): where it is shaded, not whether it is covered.
 constexpr double kShadeTolerance = 1.0 / 64;
-/// Share of a Partial part's area shown as surface when its central ray finds no surface at all.
-constexpr double kPartialMissWeight = 0.25;
+/// Point rays per side of a Partial part (at the centres of its kCoverageRays^2 quarters, besides
+/// its central ray) whose hits estimate the share of the part shown as surface.
+constexpr int kCoverageRays = 2;
+/// Least share of a Partial part shown as surface, when none of its rays finds the surface (one
+/// ray of a 4x4 grid over the part): a part that may hold surface is never dropped.
+constexpr double kPartialMinWeight = 1.0 / 16;
+/// Least coverage of a pixel with a part that may hold surface, in last-level parts: a quarter
+/// of one (1/64 of the pixel at max_level 2), the least any such pixel showed before Partial
+/// parts were weighted by their rays, so that it stays visible.
+constexpr double kPixelMinParts = 0.25;
 /// Point-value steps over [t_near, t_far] in which the first crossing of a Full part's central
-/// ray is looked for before regula falsi narrows it (full_root).
+/// ray is looked for before regula falsi narrows it (full_root). The steps start at one
+/// footprint of the part and double up to (t_far - t_near) / kRootMarch.
 constexpr int kRootMarch = 8;
+/// Most point values along one coverage ray of a Partial part (steps of one footprint).
+constexpr int kCoverageMarch = 64;
 /// Most depth pieces of a Full beam's hit segment over which the estimator is taken (halves first,
 /// then halves of those that may hold a hit while the hull is too wide: beam_estimator).
 constexpr int kEstimatorPieces = 8;
 
-/// The first crossing of g (> 0 at a, < 0 at b) in [a, b]: a march of kRootMarch point values
-/// from the front to the first step whose far end has the far sign (a feature thinner than a
-/// step can still hide a crossing: shading only), then regula falsi (Illinois) to within `tol`.
+/// The first crossing of g (> 0 at a, < 0 at b) in [a, b]: a march of point values from the
+/// front to the first step whose far end has the far sign, then regula falsi (Illinois) to
+/// within `tol`. The steps are `first` wide at the front, then double, up to (b - a) /
+/// kRootMarch: the first crossing is most often near a (the beam's t_near), where a thin sliver
+/// in front of a farther surface (a lobe passing in front of another) would hide in one long
+/// step. A feature thinner than a step can still hide a crossing: shading only.
 template <class G>
-double first_crossing(const G& g, double a, double b, double ga, double gb, double tol) {
-  const double step = (b - a) / kRootMarch;
-  for (int k = 1; k < kRootMarch; ++k) {
-    const double t = a + k * step;
-    if (!(t > a && t < b)) break;
+double first_crossing(const G& g, double a, double b, double ga, double gb, double tol,
+                      double first) {
+  const double end = b;
+  const double most = (b - a) / kRootMarch;
+  double step = std::min(first, most);
+  double t = a;
+  for (int k = 0; k < 4 * kRootMarch; ++k) {
+    t += step;
+    step = std::min(2 * step, most);
+    if (!(t > a && t < end)) break;
     const double gt = g(t);
     if (gt == 0) return t;
     if (gt < 0) {
@@ -76,7 +96,7 @@ double first_crossing(const G& g, double a, double b, double ga, double gb, doub
 /// the slice at t_s and the opposite one on the slice at t_far, and is continuous in between;
 /// so the central ray has a root in every bracket kept, and none before t_near. Only the shading
 /// point depends on it.
-double full_root(RenderContext& ctx, const Vec3& d, const BeamSearch& s, double tol) {
+double full_root(RenderContext& ctx, const Vec3& d, const BeamSearch& s, double tol, double first) {
   const Vec3& eye = ctx.setup.frame.eye;
   // > 0 on the near side
   auto g = [&](double t) { return ctx.se.eval_point(eye + t * d) * s.sign; };
@@ -89,7 +109,7 @@ double full_root(RenderContext& ctx, const Vec3& d, const BeamSearch& s, double 
     ga = g(a);
   }
   if (!(ga > 0) || !(gb < 0)) return 0.5 * (s.t_near + s.t_far);  // no usable point signs
-  return first_crossing(g, a, s.t_far, ga, gb, tol);
+  return first_crossing(g, a, s.t_far, ga, gb, tol, first);
 }
 
 /// One pixel's subdivision: the sums over its leaves and the shadow searches they share.
@@ -99,8 +119,10 @@ class IaaPixel {
       : ctx_(ctx), su_(ctx.setup), st_(ctx.setup.settings), tr_(tr) {}
 
   PixelResult run(const PixelJob& job) {
+    if (tr_) first_beam_ = tr_->beams.size();
     beam(PixelRect{double(job.x), double(job.y), double(job.x + 1), double(job.y + 1)}, 0,
          job.range, job.full, last_beam(tr_));
+    raise_to_min_coverage();
     PixelResult r;
     r.color = to_rgb(color_);
     r.leaves = leaves_;
@@ -112,6 +134,29 @@ class IaaPixel {
   }
 
  private:
+  /// A pixel with a part that may hold surface shows at least kPixelMinParts last-level parts
+  /// of coverage: when its Partial parts' rays found too little surface, their weights are
+  /// scaled up together (no Full part then: one covers more than the minimum).
+  void raise_to_min_coverage() {
+    const double least = kPixelMinParts / double(1u << (2 * st_.max_level));
+    if (!any_partial_ || any_full_ || !(coverage_ < least) || !(coverage_ > 0)) return;
+    const double k = least / coverage_;
+    const Vec3 bg = background(ctx_);
+    // colour = sum of area (w shaded + (1 - w) bg) over the parts + the background parts'
+    // = bg + sum of area w (shaded - bg) = bg + coverage (mean surface colour - bg).
+    color_ = bg + k * (color_ - bg);
+    coverage_ = least;
+    if (!tr_) return;
+    tr_->raised_coverage = k;
+    for (std::size_t i = first_beam_; i < tr_->beams.size(); ++i) {
+      BeamTrace& b = tr_->beams[i];
+      if (b.decision != BeamDecision::kShadeLeaf || b.result == BeamResult::kFull) continue;
+      const Vec3 part = b.color - bg;  // w (shaded - bg)
+      b.color = bg + k * part;
+      b.weight *= k;
+    }
+  }
+
   /// Searches the beam `rect`, shades it or splits it into four, and records it when tracing.
   void beam(const PixelRect& rect, int level, Interval range, const BeamSearch* parent_full,
             int parent) {
@@ -194,18 +239,21 @@ class IaaPixel {
     }
   }
 
-  /// Shades a beam part: at the exact hit of its central ray when there is one, else at the
-  /// centre of the hit box with the mid-point normal of the interval gradient. Sets `weight` to
-  /// the share of the part shown as surface.
+  /// Shades a beam part: at the exact hit of its central ray (or of its first coverage ray that
+  /// finds the surface, when the central ray does not) when there is one, else at the centre of
+  /// the hit box with the mid-point normal of the interval gradient. Sets `weight` to the share
+  /// of the part shown as surface.
   Vec3 shade_beam(const PixelRect& rect, const BeamSearch& s, Interval range, BeamTrace* t,
                   double* weight) {
-    const double uc = 0.5 * (rect.u0 + rect.u1), vc = 0.5 * (rect.v0 + rect.v1);
-    const Vec3 d = su_.frame.dir(uc, vc);
-    const RayHit h = central_hit(rect, s, range, d, weight);
+    PartHit ph;
+    ph.u = 0.5 * (rect.u0 + rect.u1);
+    ph.v = 0.5 * (rect.v0 + rect.v1);
+    ph.d = su_.frame.dir(ph.u, ph.v);
+    part_hit(rect, s, range, &ph, weight);
     Vec3 p, g;
-    if (h.hit) {
-      p = su_.frame.eye + h.t.mid() * d;
-      g = hit_gradient(ctx_, p, uc, vc, h.t);
+    if (ph.h.hit) {
+      p = su_.frame.eye + ph.h.t.mid() * ph.d;
+      g = hit_gradient(ctx_, p, ph.u, ph.v, ph.h.t);
     } else {
       p = {s.hit_box.x.mid(), s.hit_box.y.mid(), s.hit_box.z.mid()};
       g = interval_mid_gradient(ctx_, s.hit_box);
@@ -213,9 +261,12 @@ class IaaPixel {
     Vec3 n;
     // Leaves of this pixel within a pixel's footprint of each other share shadow searches.
     shadow_cache_.radius = su_.frame.scale * s.t_near;
-    const Vec3 c = shade(ctx_, p, g, d, &n, &shadow_cache_);
+    const Vec3 c = shade(ctx_, p, g, ph.d, &n, &shadow_cache_);
     if (t) {
-      t->center_ray_hit = h.hit;
+      t->center_ray_hit = ph.central;
+      t->coverage_ray_hit = ph.h.hit && !ph.central;
+      t->coverage_rays = coverage_rays_;
+      t->coverage_hits = coverage_hits_;
       t->point = p;
       t->normal = n;
       t->color = c;
@@ -223,16 +274,24 @@ class IaaPixel {
     return c;
   }
 
-  /// The hit of the central ray `d` of a part, which only chooses its shading point: the
-  /// certificate and the coverage do not depend on it. Full: the central ray certainly hits in
-  /// [t_near, t_far]. Partial: its hit is looked for only a few beam widths behind t_near (a hit
-  /// further back would be hidden by whatever the beam touches first), then behind that. A
-  /// Partial part whose central ray finds no surface is most likely a sliver of a silhouette or
-  /// of a thin feature: it is shown with weight kPartialMissWeight over the background, never
-  /// dropped (its coverage stays > 0).
-  RayHit central_hit(const PixelRect& rect, const BeamSearch& s, Interval range, const Vec3& d,
-                     double* weight) {
-    const double uc = 0.5 * (rect.u0 + rect.u1), vc = 0.5 * (rect.v0 + rect.v1);
+  /// The ray that gives a part its shading point: through (u, v) in direction d, its hit h.
+  struct PartHit {
+    double u = 0, v = 0;
+    Vec3 d;
+    RayHit h;
+    bool central = false;  ///< the central ray found the surface
+  };
+
+  /// The hit of the central ray of a part (ph holds it), which chooses its shading point, and
+  /// the share of the part shown as surface (`weight`); the certificate does not depend on them.
+  /// Full: the central ray certainly hits in [t_near, t_far], weight 1. Partial: its hit is
+  /// looked for only a few beam widths behind t_near (a hit further back would be hidden by
+  /// whatever the beam touches first), then behind that; the weight is the share of the part's
+  /// rays that find the surface, the central ray and kCoverageRays^2 point-marched ones
+  /// (coverage_ray), never below kPartialMinWeight: a part that may hold surface is never
+  /// dropped. When only a coverage ray finds the surface, the part is shaded where it does.
+  void part_hit(const PixelRect& rect, const BeamSearch& s, Interval range, PartHit* ph,
+                double* weight) {
     const double side = std::max(rect.width(), rect.height());
     const double reach = kPartialShadeReach * su_.frame.scale * side * s.t_near;
     const Interval sr(
@@ -242,21 +301,98 @@ class IaaPixel {
     const double foot = su_.frame.scale * side * sr.lo();
     const double shade_tol = std::max(su_.ray_tol, kShadeTolerance * foot);
     *weight = 1.0;
-    RayHit h;
+    coverage_rays_ = coverage_hits_ = 0;
+    RayHit& h = ph->h;
     if (s.result == BeamResult::kFull) {
       h.hit = true;
-      h.t = Interval(full_root(ctx_, d, s, shade_tol));
-      return h;
+      h.t = Interval(full_root(ctx_, ph->d, s, shade_tol, foot));
+      ph->central = true;
+      return;
     }
-    h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), sr, shade_tol,
-                   su_.frame.scale * sr.hi() * 4, false);
-    if (h.hit) return h;
-    if (sr.hi() < range.hi()) {
-      h = search_ray(ctx_, su_.frame.eye, su_.frame.dir_box(uc, vc), Interval(sr.hi(), range.hi()),
-                     shade_tol, su_.frame.scale * range.hi() * 4, false);
+    const IBox dir = su_.frame.dir_box(ph->u, ph->v);
+    h = search_ray(ctx_, su_.frame.eye, dir, sr, shade_tol, su_.frame.scale * sr.hi() * 4, false);
+    if (!h.hit && sr.hi() < range.hi()) {
+      h = search_ray(ctx_, su_.frame.eye, dir, Interval(sr.hi(), range.hi()), shade_tol,
+                     su_.frame.scale * range.hi() * 4, false);
     }
-    if (!h.hit) *weight = kPartialMissWeight;
-    return h;
+    ph->central = h.hit;
+    // The coverage rays, at the centres of the part's quarters (kCoverageRays 2), marched over
+    // the near reach, or to as far behind the central ray's hit when that lies further back.
+    coverage_rays_ = 1 + kCoverageRays * kCoverageRays;
+    coverage_hits_ = h.hit ? 1 : 0;
+    const double end = h.hit ? std::max(sr.hi(), h.t.hi() + (sr.hi() - sr.lo())) : sr.hi();
+    const Interval march(s.t_near, std::min(range.hi(), end));
+    for (int j = 0; j < kCoverageRays; ++j) {
+      for (int i = 0; i < kCoverageRays; ++i) {
+        const double u = rect.u0 + (i + 0.5) / kCoverageRays * rect.width();
+        const double v = rect.v0 + (j + 0.5) / kCoverageRays * rect.height();
+        const Vec3 d = su_.frame.dir(u, v);
+        Crossing x;
+        if (!coverage_ray(d, march, foot, &x)) continue;
+        ++coverage_hits_;
+        if (h.hit) continue;
+        // The first coverage ray that finds the surface gives the shading point.
+        const double sg = x.fa > 0 ? 1.0 : -1.0;  // > 0 on the near side
+        auto g = [&](double t) { return sg * ctx_.se.eval_point(su_.frame.eye + t * d); };
+        h.hit = true;
+        h.t = Interval(
+            x.fa == 0   ? x.a
+            : x.fb == 0 ? x.b
+                        : first_crossing(g, x.a, x.b, sg * x.fa, sg * x.fb, shade_tol, x.b - x.a));
+        ph->u = u;
+        ph->v = v;
+        ph->d = d;
+      }
+    }
+    *weight = std::max(kPartialMinWeight, double(coverage_hits_) / coverage_rays_);
+  }
+
+  /// A bracket [a, b] of point values of opposite signs (fa == 0: a root at a).
+  struct Crossing {
+    double a = 0, b = 0, fa = 0, fb = 0;
+  };
+
+  /// True when the point ray `d` of a Partial part meets the surface in `range` (the part's
+  /// depths from t_near), inside the bounds, as far as a march of point values in steps of
+  /// `step` can tell (one footprint of the part; at most kCoverageMarch steps, wider when the
+  /// range is longer); `x` gets the first bracket. No ray of the part meets the surface before
+  /// t_near, so they all start on the same side. A crossing pair thinner than a step can hide,
+  /// which only lowers the part's weight, never below the minimum.
+  bool coverage_ray(const Vec3& d, Interval range, double step, Crossing* x) {
+    const Vec3& eye = su_.frame.eye;
+    const Box3& bx = ctx_.bounds();
+    double a = range.lo(), b = range.hi();
+    for (int i = 0; i < 3; ++i) {  // the ray's depths inside the bounds
+      if (d[i] == 0) {
+        if (eye[i] < bx.lo[i] || eye[i] > bx.hi[i]) return false;
+        continue;
+      }
+      double t0 = (bx.lo[i] - eye[i]) / d[i], t1 = (bx.hi[i] - eye[i]) / d[i];
+      if (t0 > t1) std::swap(t0, t1);
+      a = std::max(a, t0);
+      b = std::min(b, t1);
+    }
+    if (!(a < b) || !(step > 0)) return false;
+    auto f = [&](double t) { return ctx_.se.eval_point(eye + t * d); };
+    // Steps of `step`, or wider so that there are at most kCoverageMarch of them.
+    const int n = static_cast<int>(
+        std::clamp(std::ceil((b - a) / step), 1.0, static_cast<double>(kCoverageMarch)));
+    double ta = a, fa = f(a);
+    if (fa == 0) {
+      *x = {a, a, 0, 0};
+      return true;
+    }
+    for (int k = 1; k <= n; ++k) {
+      const double tb = k == n ? b : a + (b - a) * k / n;
+      const double fb = f(tb);
+      if (std::isfinite(fa) && std::isfinite(fb) && (fb == 0 || (fa < 0) != (fb < 0))) {
+        *x = {ta, tb, fa, fb};
+        return true;
+      }
+      ta = tb;
+      fa = fb;
+    }
+    return false;
   }
 
   RenderContext& ctx_;
@@ -268,6 +404,8 @@ class IaaPixel {
   double coverage_ = 0;       ///< sum of the leaves' weights times their areas
   std::uint32_t leaves_ = 0;
   bool any_full_ = false, any_partial_ = false;
+  int coverage_rays_ = 0, coverage_hits_ = 0;  ///< of the part being shaded
+  std::size_t first_beam_ = 0;                 ///< this pixel's first beam in tr_ (tracing)
 };
 
 }  // namespace

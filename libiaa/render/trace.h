@@ -60,11 +60,14 @@ struct BeamTrace {
   Interval estimator = Interval::empty();  ///< the estimator interval (empty when not computed)
   BeamDecision decision = BeamDecision::kBackground;
   // Shading (for kShadeFull / kShadeLeaf).
-  bool center_ray_hit = false;  ///< the central ray's exact hit was found
-  Vec3 point, normal;           ///< shading point and unit normal (facing the eye)
-  Vec3 color;                   ///< linear RGB of this part (surface blended by `weight`)
-  double weight = 1.0;          ///< share of the part's area shown as surface (coverage)
-  std::uint64_t evals = 0;      ///< interval evaluations spent on this beam (search + shading)
+  bool center_ray_hit = false;    ///< the central ray's exact hit was found
+  bool coverage_ray_hit = false;  ///< Partial: shaded at a coverage ray's hit (the central missed)
+  Vec3 point, normal;             ///< shading point and unit normal (facing the eye)
+  Vec3 color;                     ///< linear RGB of this part (surface blended by `weight`)
+  double weight = 1.0;            ///< share of the part's area shown as surface (coverage)
+  int coverage_rays = 0;          ///< Partial: rays whose hits gave the weight (central included)
+  int coverage_hits = 0;          ///< Partial: of those, the ones that found the surface
+  std::uint64_t evals = 0;        ///< interval evaluations spent on this beam (search + shading)
 };
 
 /// One point-sampled ray (baselines, or the central ray of an IAA leaf).
@@ -84,6 +87,9 @@ struct PixelTrace {
   std::vector<BeamTrace> beams;  ///< screen blocks first (level < 0), then the pixel's quadtree
   std::vector<RayTrace> rays;    ///< point-sampled rays (baseline methods)
   Vec3 color;                    ///< final linear colour of the pixel
+  /// IAA: the factor by which the Partial parts' weights were raised so that the pixel shows
+  /// the least coverage of a pixel that may hold surface (1: not raised).
+  double raised_coverage = 1.0;
 };
 
 }  // namespace iaa

@@ -84,7 +84,13 @@ nlohmann::json beam_json(std::size_t i, const BeamTrace& b, const RenderSettings
                      {"normal", jvec(b.normal)},
                      {"color", jvec(b.color)},
                      {"rgb8", jrgb8(b.color)},
-                     {"area", b.rect.area()}};
+                     {"area", b.rect.area()},
+                     {"weight", b.weight}};
+    if (b.coverage_rays > 0) {
+      jb["shading"]["coverage_rays"] = b.coverage_rays;
+      jb["shading"]["coverage_hits"] = b.coverage_hits;
+      jb["shading"]["coverage_ray_hit"] = b.coverage_ray_hit;
+    }
   }
   jb["evaluations"] = b.evals;
   return jb;
@@ -117,6 +123,7 @@ nlohmann::json inspection_json(const Scene& scene, const std::string& path,
   j["pixel"] = {tr.x, tr.y};
   j["settings"] = app::render_settings_json(st);
   j["result"] = result_json(r);
+  if (tr.raised_coverage != 1.0) j["result"]["partial_weights_raised_by"] = tr.raised_coverage;
   j["beams"] = nlohmann::json::array();
   for (std::size_t i = 0; i < tr.beams.size(); ++i) {
     j["beams"].push_back(beam_json(i, tr.beams[i], st));

@@ -119,11 +119,17 @@ void print_beam(std::size_t i, const BeamTrace& b, const std::string& ind,
               decision_reason(b, st).c_str());
   if (is_shaded(b)) {
     std::printf("%s  | shading: %s at %s, normal %s, colour %s (linear %s), area %s\n", ind.c_str(),
-                b.center_ray_hit ? "central ray hit"
-                                 : "central ray missed; hit box centre, mid-point normal",
+                b.center_ray_hit     ? "central ray hit"
+                : b.coverage_ray_hit ? "central ray missed; a coverage ray's hit"
+                                     : "central ray missed; hit box centre, mid-point normal",
                 vec_text(b.point).c_str(), vec_text(b.normal, 4).c_str(),
                 hex_color(b.color).c_str(), vec_text(b.color, 4).c_str(),
                 num_text(b.rect.area()).c_str());
+    if (b.coverage_rays > 0) {
+      std::printf(
+          "%s  | weight %s: %d of its %d rays (central and coverage rays) found the surface\n",
+          ind.c_str(), num_text(b.weight, 4).c_str(), b.coverage_hits, b.coverage_rays);
+    }
   }
 }
 
@@ -142,13 +148,17 @@ void print_ray(std::size_t i, const RayTrace& ray) {
 }
 
 /// How the pixel's colour was made from its parts, in words.
-const char* colour_origin(const RenderSettings& st, const PixelResult& r) {
+const char* colour_origin(const RenderSettings& st, const PixelResult& r, double raised) {
   if (r.certificate == PixelCertificate::kEmpty) return "certified background";
   if (st.method == RenderMethod::kPoint || st.method == RenderMethod::kGrid) {
     return "the mean of its rays";
   }
   if (st.method == RenderMethod::kAdaptive) {
     return "the area-weighted mean of its squares' corner-ray colours";
+  }
+  if (raised != 1.0) {
+    return "the area-weighted mean of its parts, the Partial parts' weights raised so that the "
+           "pixel shows the least coverage of one that may hold surface";
   }
   return "the area-weighted mean of its parts";
 }
@@ -207,7 +217,7 @@ void print_inspection_tree(const Scene& scene, const RenderSettings& st, const P
   }
   for (std::size_t i = 0; i < tr.rays.size(); ++i) print_ray(i, tr.rays[i]);
   std::printf("pixel colour %s (linear %s): %s\n", hex_color(tr.color).c_str(),
-              vec_text(tr.color).c_str(), colour_origin(st, r));
+              vec_text(tr.color).c_str(), colour_origin(st, r, tr.raised_coverage));
 }
 
 }  // namespace iaa::cli
