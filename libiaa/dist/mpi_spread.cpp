@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 
 #include "core/error.h"
 #include "core/exec.h"
@@ -57,7 +58,21 @@ void MpiSpread::begin(std::uint64_t items, const ProgressPhase* phase) {
   owner_.assign(world_.rank() == 0 ? items : 0, -1);
   start_ = MPI_Wtime();
   last_done_ = 0;
-  if (world_.rank() == 0 && world_.size() > 1) server_ = std::thread([this] { serve(); });
+  server_failed_ = false;
+  server_error_.clear();
+  if (world_.rank() == 0 && world_.size() > 1) {
+    server_ = std::thread([this] {
+      try {
+        serve();
+      } catch (const std::exception& e) {
+        server_error_ = e.what();
+        server_failed_ = true;
+      } catch (...) {
+        server_error_ = "MPI service thread: unknown error";
+        server_failed_ = true;
+      }
+    });
+  }
 }
 
 std::int64_t MpiSpread::take(int rank, std::uint64_t* count) {
@@ -92,6 +107,7 @@ std::int64_t MpiSpread::next() {
   std::int64_t item = -1;
   if (world_.rank() == 0) {
     if (const int r = peer_failed_; r >= 0) throw PeerFailed{r};
+    if (server_failed_) throw Error(server_error_);
     // Rank 0's own threads take one item at a time: no messages to save.
     if (next_item_ < items_) {
       owner_[next_item_] = 0;
@@ -182,6 +198,7 @@ SpreadBalance MpiSpread::finish(std::vector<std::string>& results,
   } else {
     if (server_.joinable()) server_.join();
     if (const int r = peer_failed_; r >= 0) throw PeerFailed{r};
+    if (server_failed_) throw Error(server_error_);
     std::vector<double> busy(std::size_t(size), 0);
     busy[0] = last_done_;
     for (int r = 1; r < size; ++r) {

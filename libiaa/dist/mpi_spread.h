@@ -19,6 +19,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "core/spread.h"
@@ -65,6 +66,11 @@ class MpiSpread final : public Spread {
   std::atomic<bool> failed_{false};   // this process failed in the loop (fail())
   std::atomic<bool> stop_{false};     // rank 0: the service thread must end (the loop failed)
   std::atomic<int> peer_failed_{-1};  // rank 0: a process that announced a failure, seen by serve()
+  // rank 0: the service thread stopped on an error (an MPI call that failed); its message, written
+  // before the flag is set. Rank 0's workers and finish() throw it: an exception must not leave the
+  // thread, which would end the process without a message.
+  std::atomic<bool> server_failed_{false};
+  std::string server_error_;
 };
 
 }  // namespace iaa::dist
