@@ -186,7 +186,8 @@ struct IntervalGradRules {
 /// (the same rules with all masks kAllVars), a reference for tests.
 class BasicIntervalGradEval {
  public:
-  BasicIntervalGradEval(const Tape& tape, bool dense) : loop_(tape, dense) {}
+  BasicIntervalGradEval(const Tape& tape, bool dense, VarMask wanted = kAllVars)
+      : loop_(tape, dense, wanted), wanted_(wanted) {}
   /// Checked: evaluates under a RoundingScope, opening one when the caller has none (the check
   /// is an inline read of the rounding mode; callers in hot loops open one per tile).
   IGrad eval(const IBox& b) {
@@ -203,9 +204,12 @@ class BasicIntervalGradEval {
  private:
   IGrad run(const IBox& b) {
     const Interval o(0.0), l(1.0);
-    return loop_.run({b.x, {l, o, o}}, {b.y, {o, l, o}}, {b.z, {o, o, l}});
+    // The seeds of unwanted partials are 0 too (a tape that is a bare variable returns its seed).
+    const Interval dx = wanted_ & 1 ? l : o, dy = wanted_ & 2 ? l : o, dz = wanted_ & 4 ? l : o;
+    return loop_.run({b.x, {dx, o, o}}, {b.y, {o, dy, o}}, {b.z, {o, o, dz}});
   }
   TapeLoop<IntervalGradRules> loop_;
+  VarMask wanted_;
 };
 }  // namespace detail
 
@@ -215,6 +219,12 @@ class BasicIntervalGradEval {
 class IntervalGradEval : public detail::BasicIntervalGradEval {
  public:
   explicit IntervalGradEval(const Tape& tape) : BasicIntervalGradEval(tape, /*dense=*/false) {}
+  /// Computes only the partials along the variables in `partials` (x = 1, y = 2, z = 4), each
+  /// exactly as the full evaluation does; the others are [0,0]. For callers that read only some
+  /// (a derivative along an edge, the tangential gradient on a face): the rest costs nothing.
+  IntervalGradEval(const Tape& tape, detail::VarMask partials)
+      : BasicIntervalGradEval(tape, /*dense=*/false, partials) {}
+  IntervalGradEval(Tape&&, detail::VarMask) = delete;
   /// The evaluator keeps a pointer to its tape, which must outlive it.
   explicit IntervalGradEval(Tape&&) = delete;
 };
