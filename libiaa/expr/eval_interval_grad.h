@@ -187,7 +187,9 @@ struct IntervalGradRules {
 class BasicIntervalGradEval {
  public:
   BasicIntervalGradEval(const Tape& tape, bool dense, VarMask wanted = kAllVars)
-      : loop_(tape, dense, wanted), wanted_(wanted) {}
+      : loop_(tape, dense, wanted),
+        wanted_(wanted),
+        bare_variable_(wanted != kAllVars && tape.root() < tape.first_op()) {}
   /// Checked: evaluates under a RoundingScope, opening one when the caller has none (the check
   /// is an inline read of the rounding mode; callers in hot loops open one per tile).
   IGrad eval(const IBox& b) {
@@ -204,12 +206,19 @@ class BasicIntervalGradEval {
  private:
   IGrad run(const IBox& b) {
     const Interval o(0.0), l(1.0);
-    // The seeds of unwanted partials are 0 too (a tape that is a bare variable returns its seed).
-    const Interval dx = wanted_ & 1 ? l : o, dy = wanted_ & 2 ? l : o, dz = wanted_ & 4 ? l : o;
-    return loop_.run({b.x, {dx, o, o}}, {b.y, {o, dy, o}}, {b.z, {o, o, dz}});
+    IGrad r = loop_.run({b.x, {l, o, o}}, {b.y, {o, l, o}}, {b.z, {o, o, l}});
+    // An instruction's unwanted partials are never computed, but a tape that is a bare variable
+    // (or a constant) returns that slot's seed: its unwanted partials are set to 0 here.
+    if (bare_variable_) [[unlikely]] {
+      for (std::size_t i = 0; i < 3; ++i) {
+        if (!(wanted_ & (1u << i))) r.g[i] = o;
+      }
+    }
+    return r;
   }
   TapeLoop<IntervalGradRules> loop_;
   VarMask wanted_;
+  bool bare_variable_;
 };
 }  // namespace detail
 
