@@ -186,7 +186,10 @@ struct IntervalGradRules {
 /// (the same rules with all masks kAllVars), a reference for tests.
 class BasicIntervalGradEval {
  public:
-  BasicIntervalGradEval(const Tape& tape, bool dense) : loop_(tape, dense) {}
+  BasicIntervalGradEval(const Tape& tape, bool dense, VarMask wanted = kAllVars)
+      : loop_(tape, dense, wanted),
+        wanted_(wanted),
+        bare_variable_(wanted != kAllVars && tape.root() < tape.first_op()) {}
   /// Checked: evaluates under a RoundingScope, opening one when the caller has none (the check
   /// is an inline read of the rounding mode; callers in hot loops open one per tile).
   IGrad eval(const IBox& b) {
@@ -203,9 +206,19 @@ class BasicIntervalGradEval {
  private:
   IGrad run(const IBox& b) {
     const Interval o(0.0), l(1.0);
-    return loop_.run({b.x, {l, o, o}}, {b.y, {o, l, o}}, {b.z, {o, o, l}});
+    IGrad r = loop_.run({b.x, {l, o, o}}, {b.y, {o, l, o}}, {b.z, {o, o, l}});
+    // An instruction's unwanted partials are never computed, but a tape that is a bare variable
+    // (or a constant) returns that slot's seed: its unwanted partials are set to 0 here.
+    if (bare_variable_) [[unlikely]] {
+      for (std::size_t i = 0; i < 3; ++i) {
+        if (!(wanted_ & (1u << i))) r.g[i] = o;
+      }
+    }
+    return r;
   }
   TapeLoop<IntervalGradRules> loop_;
+  VarMask wanted_;
+  bool bare_variable_;
 };
 }  // namespace detail
 
@@ -215,6 +228,12 @@ class BasicIntervalGradEval {
 class IntervalGradEval : public detail::BasicIntervalGradEval {
  public:
   explicit IntervalGradEval(const Tape& tape) : BasicIntervalGradEval(tape, /*dense=*/false) {}
+  /// Computes only the partials along the variables in `partials` (x = 1, y = 2, z = 4), each
+  /// exactly as the full evaluation does; the others are [0,0]. For callers that read only some
+  /// (a derivative along an edge, the tangential gradient on a face): the rest costs nothing.
+  IntervalGradEval(const Tape& tape, detail::VarMask partials)
+      : BasicIntervalGradEval(tape, /*dense=*/false, partials) {}
+  IntervalGradEval(Tape&&, detail::VarMask) = delete;
   /// The evaluator keeps a pointer to its tape, which must outlive it.
   explicit IntervalGradEval(Tape&&) = delete;
 };

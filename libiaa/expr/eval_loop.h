@@ -73,11 +73,14 @@ class TapeLoop {
   using Num = typename Rules::Num;
 
   /// `dense` (masked modes only): every slot's mask is kAllVars, so every component is computed,
-  /// as without masks (a reference for tests).
-  explicit TapeLoop(const Tape& tape, bool dense = false)
+  /// as without masks (a reference for tests). `wanted` (masked modes only): only the components
+  /// of these variables are computed, each exactly as with all of them (a component depends on
+  /// the same component of the arguments only); the others stay [0,0] in every result.
+  explicit TapeLoop(const Tape& tape, bool dense = false, VarMask wanted = kAllVars)
       : tape_(&tape), slots_(static_cast<std::size_t>(tape.size())) {
     if constexpr (UsesVarMasks<Rules>) {
       masks_ = dense ? std::vector<VarMask>(slots_.size(), kAllVars) : var_masks(tape);
+      for (VarMask& m : masks_) m = VarMask(m & wanted);
     }
     const auto consts = tape.constants();
     for (int i = 3; i < tape.first_op(); ++i) {

@@ -23,6 +23,7 @@
 #include <optional>
 #include <string>
 #include <type_traits>
+#include <utility>
 
 #include "core/big_allocator.h"
 #include "core/error.h"
@@ -153,10 +154,17 @@ class ProofCache {
 
 /// Per-thread evaluators.
 struct Evaluators {
-  explicit Evaluators(const Tape& t) : f(t), g(t), p(t), pg(t) {}
+  explicit Evaluators(const Tape& t) : f(t), g(t), p(t), pg(t) {
+    partials.reserve(6);  // the evaluators keep their addresses
+    for (int wanted = 1; wanted < 7; ++wanted) partials.emplace_back(t, detail::VarMask(wanted));
+  }
   ProofCache proofs;
   IntervalEval f;
   IntervalGradEval g;
+  /// For faces and edges: index wanted - 1 computes only the partials along the axes in
+  /// `wanted` (the axes a face or an edge extends along, the only ones their proofs read).
+  std::vector<IntervalGradEval> partials;
+  bool flat_partial = false;  ///< the last eval_flat_natural met domain trouble
   PointEval p;
   PointGradEval pg;
   std::uint64_t evaluations = 0;
@@ -208,17 +216,39 @@ Interval mean_value(Evaluators& e, const IBox& b, const IGrad& g) {
   return fc ? intersect(expand(b, *fc, g.g), g.v) : g.v;
 }
 
-/// The gradient evaluation of a box degenerate along the axes in `flat` (bit a: axis a at lo),
-/// with its value bounded by the mean-value form as well.
-IGrad eval_flat(Evaluators& e, const Box3& b, int flat) {
+/// Box b made degenerate along the axes in `flat` (bit a: axis a at lo).
+IBox flat_box(const Box3& b, int flat) {
   IBox ib(b);
   for (int a = 0; a < 3; ++a) {
     if (flat & (1 << a)) ib[a] = Interval(b.lo[a]);
   }
+  return ib;
+}
+
+/// The gradient evaluation of a box degenerate along the axes in `flat`, its value the natural
+/// interval only (see tightened()). Only the partials along the other axes are computed (the
+/// others are [0,0]): the proofs of faces and edges read no other, and the mean-value form over
+/// the box needs none along its flat axes. `e.flat_partial` gets whether it met domain trouble.
+IGrad eval_flat_natural(Evaluators& e, const Box3& b, int flat) {
   ++e.evaluations;
-  IGrad g = e.g.eval(ib);
-  if (e.g.partial_domain()) return g;
-  if (!zero_free(g.v)) g.v = mean_value(e, ib, g);
+  IntervalGradEval& g = e.partials[std::size_t((7 & ~flat) - 1)];
+  const IGrad r = g.eval(flat_box(b, flat));
+  e.flat_partial = g.partial_domain();
+  return r;
+}
+
+/// The value of `g` (eval_flat_natural of b, flat, without domain trouble) bounded by the
+/// mean-value form as well, where the natural interval alone does not exclude 0.
+Interval tightened(Evaluators& e, const Box3& b, int flat, const IGrad& g) {
+  return zero_free(g.v) ? g.v : mean_value(e, flat_box(b, flat), g);
+}
+
+/// The gradient evaluation of a box degenerate along the axes in `flat`, with its value bounded
+/// by the mean-value form as well.
+IGrad eval_flat(Evaluators& e, const Box3& b, int flat) {
+  IGrad g = eval_flat_natural(e, b, flat);
+  if (e.flat_partial) return g;
+  g.v = tightened(e, b, flat, g);
   return g;
 }
 
@@ -230,18 +260,49 @@ constexpr int kProofSplits = 2;
 /// on which f has no zero but may have a critical point (a vanishing derivative along an edge)
 /// and that touch no side of the face (hold no end of the edge), and every piece found free of
 /// zeros, through which they may reach one. Closed boxes, flat along the axes the face or edge is
-/// flat along.
+/// flat along (`flat`, as for eval_flat).
+///
+/// Whether a piece is free of zeros matters only for joining when some piece is loose, and the
+/// mean-value form that often decides it costs an evaluation of f: a piece whose natural interval
+/// does not decide and whose zeros nothing else needs is added as *pending*, with its gradient
+/// evaluation, and its mean-value form is evaluated by resolve() only when a loose piece must be
+/// joined (most faces and edges have none). Which pieces are zero-free, and so what is proved, is
+/// the same as when every piece's form is evaluated at once.
 struct ProofPieces {
   /// Every piece of every level may be zero-free: 1 + 4 + ... + 4^kProofSplits of a face (an
   /// edge has fewer).
   static constexpr int kMax = ((4 << (2 * kProofSplits)) - 1) / 3;
+  explicit ProofPieces(int flat_axes) : flat(flat_axes) {}
+  int flat;
   std::array<Box3, kMax> box;
-  std::array<bool, kMax> loose{};  ///< a piece that must reach the boundary
+  std::array<bool, kMax> loose{};    ///< a piece that must reach the boundary
+  std::array<bool, kMax> pending{};  ///< zero-free not decided yet (grad holds its evaluation)
+  std::array<bool, kMax> absent{};   ///< resolved: not zero-free after all
+  std::array<IGrad, kMax> grad;
   int n = 0;
   void add(const Box3& b, bool is_loose) {
     box[std::size_t(n)] = b;
     loose[std::size_t(n)] = is_loose;
     ++n;
+  }
+  /// Adds piece b, with its evaluation g, if it is zero-free (pending when undecided; `final`:
+  /// g's value is tightened already, and decides).
+  void add_maybe(const Box3& b, const IGrad& g, bool final) {
+    if (final && !zero_free(g.v)) return;
+    if (!zero_free(g.v)) {
+      grad[std::size_t(n)] = g;
+      pending[std::size_t(n)] = true;
+    }
+    add(b, false);
+  }
+  /// Decides the pending pieces: zero-free by the mean-value form, or absent.
+  void resolve(Evaluators& e) {
+    for (int i = 0; i < n; ++i) {
+      const auto k = std::size_t(i);
+      if (!pending[k]) continue;
+      pending[k] = false;
+      absent[k] = !zero_free(tightened(e, box[k], flat, grad[k]));
+    }
   }
   bool any_loose() const {
     for (int i = 0; i < n; ++i) {
@@ -270,13 +331,14 @@ struct ProofPieces {
       return true;
     };
     for (int i = 0; i < n; ++i) {
-      if (on_boundary(box[std::size_t(i)]))
+      if (!absent[std::size_t(i)] && on_boundary(box[std::size_t(i)]))
         reached[std::size_t(i)] = true, stack[std::size_t(top++)] = i;
     }
     while (top > 0) {
       const int i = stack[std::size_t(--top)];
       for (int j = 0; j < n; ++j) {
-        if (!reached[std::size_t(j)] && touch(box[std::size_t(i)], box[std::size_t(j)])) {
+        if (!reached[std::size_t(j)] && !absent[std::size_t(j)] &&
+            touch(box[std::size_t(i)], box[std::size_t(j)])) {
           reached[std::size_t(j)] = true;
           stack[std::size_t(top++)] = j;
         }
@@ -297,17 +359,28 @@ struct ProofPieces {
 /// the two crossings, away from both ends. Strict monotonicity holds pointwise, so pieces that
 /// pass, covering the edge, prove it whole. False when a piece of the finest split is neither
 /// monotone nor zero-free.
+/// `known`: the whole edge's evaluation, its value tightened already (eval_flat); the pieces' are
+/// tightened only where their zeros decide (ProofPieces).
 bool edge_pieces(Evaluators& e, const Box3& piece, int axis, unsigned ends, int splits,
                  ProofPieces& zero_free_pieces, const IGrad* known = nullptr) {
-  const IGrad g = known ? *known : eval_flat(e, piece, 7 & ~(1 << axis));
-  if (e.g.partial_domain()) return false;
-  const bool no_zero = zero_free(g.v);
-  if (no_zero) zero_free_pieces.add(piece, false);
-  if (!g.g[std::size_t(axis)].contains_zero() || (ends && no_zero)) return true;
-  if (splits == 0) {
-    if (!no_zero) return false;
-    zero_free_pieces.loose[std::size_t(zero_free_pieces.n - 1)] = true;
+  const int flat = 7 & ~(1 << axis);
+  const IGrad g = known ? *known : eval_flat_natural(e, piece, flat);
+  if (e.flat_partial) return false;
+  if (!g.g[std::size_t(axis)].contains_zero()) {
+    zero_free_pieces.add_maybe(piece, g, known);
     return true;
+  }
+  if (ends == 0 && splits > 0) {
+    zero_free_pieces.add_maybe(piece, g, known);
+  } else {
+    const bool no_zero = zero_free(known ? g.v : tightened(e, piece, flat, g));
+    if (no_zero) zero_free_pieces.add(piece, false);
+    if (ends && no_zero) return true;
+    if (splits == 0) {
+      if (!no_zero) return false;
+      zero_free_pieces.loose[std::size_t(zero_free_pieces.n - 1)] = true;
+      return true;
+    }
   }
   const double mid = 0.5 * (piece.lo[axis] + piece.hi[axis]);
   Box3 lo = piece, hi = piece;
@@ -322,14 +395,20 @@ bool edge_pieces(Evaluators& e, const Box3& piece, int axis, unsigned ends, int 
 /// then has at most one zero on the edge for all but countably many delta (docs/mesh.md). Else
 /// the edge is proved in pieces (edge_pieces).
 bool edge_ok(Evaluators& e, const Box3& edge, int axis) {
-  const IGrad g = eval_flat(e, edge, 7 & ~(1 << axis));
-  if (e.g.partial_domain()) return false;
+  const int flat = 7 & ~(1 << axis);
+  IGrad g = eval_flat_natural(e, edge, flat);
+  if (e.flat_partial) return false;
   const Interval& d = g.g[std::size_t(axis)];
-  if (zero_free(g.v) || d.lo() >= 0.0 || d.hi() <= 0.0) return true;
-  ProofPieces pieces;
+  // Monotone needs no value: the mean-value form is evaluated only where it is not.
+  if (d.lo() >= 0.0 || d.hi() <= 0.0) return true;
+  g.v = tightened(e, edge, flat, g);
+  if (zero_free(g.v)) return true;
+  ProofPieces pieces(flat);
   // The whole edge is the first piece, already evaluated.
   if (!edge_pieces(e, edge, axis, 3u, kProofSplits, pieces, &g)) return false;
-  return !pieces.any_loose() || pieces.joined(edge);
+  if (!pieces.any_loose()) return true;
+  pieces.resolve(e);
+  return pieces.joined(edge);
 }
 
 /// No closed curve of the surface inside this piece of a face normal to axis a: f restricted to
@@ -345,15 +424,23 @@ bool edge_ok(Evaluators& e, const Box3& edge, int axis) {
 bool face_pieces(Evaluators& e, const Box3& piece, int a, unsigned sides, int splits,
                  ProofPieces& zero_free_pieces, const IGrad* known = nullptr) {
   const std::size_t u = std::size_t((a + 1) % 3), v = std::size_t((a + 2) % 3);
-  const IGrad g = known ? *known : eval_flat(e, piece, 1 << a);
-  if (e.g.partial_domain()) return false;
-  const bool no_zero = zero_free(g.v);
-  if (no_zero) zero_free_pieces.add(piece, false);
-  if ((square(g.g[u]) + square(g.g[v])).lo() > 0.0 || (sides && no_zero)) return true;
-  if (splits == 0) {
-    if (!no_zero) return false;
-    zero_free_pieces.loose[std::size_t(zero_free_pieces.n - 1)] = true;
+  const IGrad g = known ? *known : eval_flat_natural(e, piece, 1 << a);
+  if (e.flat_partial) return false;
+  if ((square(g.g[u]) + square(g.g[v])).lo() > 0.0) {
+    zero_free_pieces.add_maybe(piece, g, known);
     return true;
+  }
+  if (sides == 0 && splits > 0) {
+    zero_free_pieces.add_maybe(piece, g, known);
+  } else {
+    const bool no_zero = zero_free(known ? g.v : tightened(e, piece, 1 << a, g));
+    if (no_zero) zero_free_pieces.add(piece, false);
+    if (sides && no_zero) return true;
+    if (splits == 0) {
+      if (!no_zero) return false;
+      zero_free_pieces.loose[std::size_t(zero_free_pieces.n - 1)] = true;
+      return true;
+    }
   }
   const double mu = 0.5 * (piece.lo[u] + piece.hi[u]), mv = 0.5 * (piece.lo[v] + piece.hi[v]);
   for (unsigned k = 0; k < 4; ++k) {
@@ -398,7 +485,7 @@ bool face_ok(Evaluators& e, const Box3& b, int a, int side, FaceProof& proof) {
   Box3 f = b;
   f.lo[a] = f.hi[a] = side ? b.hi[a] : b.lo[a];
   const IGrad g = eval_flat(e, f, 1 << a);
-  if (e.g.partial_domain()) return false;
+  if (e.flat_partial) return false;
   proof.tested = true;
   proof.zero_free = zero_free(g.v);
   for (std::size_t k = 0; k < 3; ++k) {
@@ -406,10 +493,12 @@ bool face_ok(Evaluators& e, const Box3& b, int a, int side, FaceProof& proof) {
   }
   const std::size_t u = std::size_t((a + 1) % 3), v = std::size_t((a + 2) % 3);
   if (proof.zero_free || (square(g.g[u]) + square(g.g[v])).lo() > 0.0) return true;
-  ProofPieces pieces;
+  ProofPieces pieces(1 << a);
   // The whole face is the first piece, already evaluated.
   if (!face_pieces(e, f, a, 15u, kProofSplits, pieces, &g)) return false;
-  return !pieces.any_loose() || pieces.joined(f);
+  if (!pieces.any_loose()) return true;
+  pieces.resolve(e);
+  return pieces.joined(f);
 }
 
 /// The local certificate of a cell (docs/mesh.md, "Certified meshing"): f strictly monotone over
@@ -736,6 +825,13 @@ struct VertexTable {
     Key key;
     std::int8_t sign;
     std::uint8_t uncertain;  ///< 1: the sign is undecided; 2 (while filling): to evaluate
+    /// The depth of the finest leaf that has the point as a corner. A leaf all of whose corners
+    /// have it at most its own depth has no finer neighbour on its faces or edges: such a
+    /// neighbour lies in a cell of the leaf's size that shares a side (an edge at least) with
+    /// the leaf and is split, and the leaf of that cell's tiling at a shared corner is finer.
+    /// Leaves that are split keep their corners, which their children's corners are too, so the
+    /// maximum over every leaf ever added is the maximum over the current ones.
+    std::uint8_t finest;
   };
   static constexpr Key kNone = ~Key{0};
   BigVector<Slot> slots;
@@ -766,6 +862,7 @@ struct VertexTable {
       if (s.key == kNone) return nullptr;
     }
   }
+  Slot* find(Key k) { return const_cast<Slot*>(std::as_const(*this).find(k)); }
   bool contains(Key k) const { return find(k) != nullptr; }
 };
 
@@ -800,16 +897,27 @@ void choose_buckets(VertexTable& t, const Grid& grid, std::size_t entries) {
 // only empty leaves where f may be undefined touch; both evaluated).
 constexpr std::uint64_t kFresh = 3;
 
-/// The table's points and the corners of `fresh`, as key << 3 | code, in no particular order.
-BigVector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid, const Leaves& fresh,
-                                       const Exec& exec) {
-  BigVector<std::uint64_t> all;
+/// Points for the table: `code` as key << 3 | code, and beside it the depth of the leaf (the
+/// finest of the leaves, for a point already in the table) that adds it.
+struct Entries {
+  BigVector<std::uint64_t> code;
+  BigVector<std::uint8_t> depth;
+};
+
+/// The table's points and the corners of `fresh`, in no particular order.
+Entries table_entries(const VertexTable& t, const Grid& grid, const Leaves& fresh,
+                      const Exec& exec) {
+  Entries out;
+  BigVector<std::uint64_t>& all = out.code;
+  BigVector<std::uint8_t>& depth = out.depth;
   for (const VertexTable::Slot& s : t.slots) {
     if (s.key == VertexTable::kNone) continue;
     all.push_back(s.key << 3 | (s.uncertain == 2 ? 5 : (s.uncertain ? 2 : (s.sign > 0 ? 1 : 0))));
+    depth.push_back(s.finest);
   }
   const std::size_t old = all.size();
   all.resize(old + 8 * fresh.size());
+  depth.resize(old + 8 * fresh.size());
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, fresh.size(), 4096), [&](auto r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
@@ -821,16 +929,18 @@ BigVector<std::uint64_t> table_entries(const VertexTable& t, const Grid& grid, c
           const Key key = make_key(
               {l.at[0] + (k & 1) * s, l.at[1] + ((k >> 1) & 1) * s, l.at[2] + ((k >> 2) & 1) * s});
           all[old + 8 * i + k] = (key << 3) | code;
+          depth[old + 8 * i + k] = l.depth;
         }
       }
     });
   });
-  return all;
+  return out;
 }
 
-/// `entries` grouped by bucket (a counting sort); `start` gets each bucket's first entry.
-BigVector<std::uint64_t> by_bucket(const VertexTable& t, const BigVector<std::uint64_t>& entries,
-                                   std::vector<std::uint32_t>& start, const Exec& exec) {
+/// `in` grouped by bucket (a counting sort); `start` gets each bucket's first entry.
+Entries by_bucket(const VertexTable& t, const Entries& in, std::vector<std::uint32_t>& start,
+                  const Exec& exec) {
+  const BigVector<std::uint64_t>& entries = in.code;
   BigVector<std::uint32_t> bucket(entries.size());
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16384), [&](auto r) {
@@ -843,36 +953,52 @@ BigVector<std::uint64_t> by_bucket(const VertexTable& t, const BigVector<std::ui
   for (const std::uint32_t b : bucket) ++start[b + 1];
   for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
   std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
-  BigVector<std::uint64_t> out(entries.size());
-  for (std::size_t i = 0; i < entries.size(); ++i) out[next[bucket[i]]++] = entries[i];
+  Entries out;
+  out.code.resize(entries.size());
+  out.depth.resize(entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const std::uint32_t j = next[bucket[i]]++;
+    out.code[j] = entries[i];
+    out.depth[j] = in.depth[i];
+  }
   return out;
 }
 
-/// Keeps one entry per point of e[0..n), the one with the smallest code, in e[0..returned), through
-/// a hash table in `scratch` (one bucket's entries fit the cache).
-std::uint32_t dedupe(std::uint64_t* e, std::size_t n, std::vector<std::uint64_t>& scratch) {
+/// Keeps one entry per point of e[0..n), the one with the smallest code, in e[0..returned), with
+/// the largest of the point's depths d[0..n) beside it in d[0..returned), through a hash table in
+/// `scratch` (one bucket's entries fit the cache).
+struct DedupeScratch {
+  std::vector<std::uint64_t> code;
+  std::vector<std::uint8_t> depth;
+};
+std::uint32_t dedupe(std::uint64_t* e, std::uint8_t* d, std::size_t n, DedupeScratch& scratch) {
   if (n == 0) return 0;
   std::size_t size = 2;
   while (size < 2 * n) size *= 2;
-  scratch.assign(size, VertexTable::kNone);
+  scratch.code.assign(size, VertexTable::kNone);
+  scratch.depth.assign(size, 0);
   std::uint32_t unique = 0;
   for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t h = VertexTable::hash(e[i] >> 3) & (size - 1);
-    while (scratch[h] != VertexTable::kNone && (scratch[h] >> 3) != (e[i] >> 3)) {
+    while (scratch.code[h] != VertexTable::kNone && (scratch.code[h] >> 3) != (e[i] >> 3)) {
       h = (h + 1) & (size - 1);
     }
-    if (scratch[h] == VertexTable::kNone) ++unique;
-    scratch[h] = std::min(scratch[h], e[i]);
+    if (scratch.code[h] == VertexTable::kNone) ++unique;
+    scratch.code[h] = std::min(scratch.code[h], e[i]);
+    scratch.depth[h] = std::max(scratch.depth[h], d[i]);
   }
   std::uint32_t k = 0;
-  for (const std::uint64_t v : scratch) {
-    if (v != VertexTable::kNone) e[k++] = v;
+  for (std::size_t h = 0; h < size; ++h) {
+    if (scratch.code[h] == VertexTable::kNone) continue;
+    e[k] = scratch.code[h];
+    d[k++] = scratch.depth[h];
   }
   return unique;
 }
 
-/// Puts entry e (a point not in the table) into the region of its bucket b, which has room.
-void put(VertexTable& t, std::uint64_t e, std::size_t b) {
+/// Puts entry e (a point not in the table, the finest leaf at it of depth `depth`) into the region
+/// of its bucket b, which has room.
+void put(VertexTable& t, std::uint64_t e, std::uint8_t depth, std::size_t b) {
   const Key key = e >> 3;
   const std::uint64_t code = e & 7;
   const std::uint32_t base = t.region[b], size = t.region[b + 1] - base;
@@ -882,20 +1008,34 @@ void put(VertexTable& t, std::uint64_t e, std::size_t b) {
   s.key = key;
   s.sign = (code == 1 || code == 4) ? 1 : -1;
   s.uncertain = code == 2 ? 1 : (code >= 5 ? 2 : 0);
+  s.finest = depth;
 }
 
 /// Adds the new points among `entries` (corners of new leaves) to the table in place: false,
 /// with some added, when a region would be more than 3/4 full (the table is then rebuilt, each
 /// region at most half full).
-bool add_in_place(VertexTable& t, BigVector<std::uint64_t>& entries) {
+/// Points already in the table get the finest depth of the new leaves at them.
+bool add_in_place(VertexTable& t, const Entries& in) {
+  // By code (so a point's entries follow each other, the smallest code first), with its depth.
+  std::vector<std::pair<std::uint64_t, std::uint8_t>> entries(in.code.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) entries[i] = {in.code[i], in.depth[i]};
   std::sort(entries.begin(), entries.end());
-  for (std::size_t i = 0; i < entries.size(); ++i) {
-    if (i > 0 && (entries[i - 1] >> 3) == (entries[i] >> 3)) continue;
-    if (t.contains(entries[i] >> 3)) continue;
-    const std::size_t b = t.bucket(entries[i] >> 3);
-    if (4 * (t.used[b] + 1) > 3 * (t.region[b + 1] - t.region[b])) return false;
-    put(t, entries[i], b);
-    ++t.used[b];
+  for (std::size_t i = 0; i < entries.size();) {
+    const Key key = entries[i].first >> 3;
+    std::size_t j = i;
+    std::uint8_t depth = 0;
+    for (; j < entries.size() && (entries[j].first >> 3) == key; ++j) {
+      depth = std::max(depth, entries[j].second);
+    }
+    if (VertexTable::Slot* s = t.find(key)) {
+      s->finest = std::max(s->finest, depth);
+    } else {
+      const std::size_t b = t.bucket(key);
+      if (4 * (t.used[b] + 1) > 3 * (t.region[b + 1] - t.region[b])) return false;
+      put(t, entries[i].first, depth, b);
+      ++t.used[b];
+    }
+    i = j;
   }
   return true;
 }
@@ -924,22 +1064,24 @@ void evaluate_signs(VertexTable& t, const Grid& grid, ThreadEvaluators& evals, c
 void add_vertices(VertexTable& t, const Grid& grid, const Leaves& fresh, ThreadEvaluators& evals,
                   const Exec& exec) {
   if (!t.slots.empty()) {
-    BigVector<std::uint64_t> entries = table_entries(VertexTable{}, grid, fresh, exec);
-    if (add_in_place(t, entries)) return evaluate_signs(t, grid, evals, exec);
+    if (add_in_place(t, table_entries(VertexTable{}, grid, fresh, exec))) {
+      return evaluate_signs(t, grid, evals, exec);
+    }
   }
-  BigVector<std::uint64_t> entries = table_entries(t, grid, fresh, exec);
+  Entries entries = table_entries(t, grid, fresh, exec);
   VertexTable n;
-  choose_buckets(n, grid, entries.size());
+  choose_buckets(n, grid, entries.code.size());
   n.region.assign(std::size_t{n.buckets[0]} * n.buckets[1] * n.buckets[2] + 1, 0);
   std::vector<std::uint32_t> start;
   entries = by_bucket(n, entries, start, exec);
   const std::size_t nb = n.region.size() - 1;
   std::vector<std::uint32_t> unique(nb, 0);
-  tbb::enumerable_thread_specific<std::vector<std::uint64_t>> scratch;
+  tbb::enumerable_thread_specific<DedupeScratch> scratch;
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](auto r) {
       for (std::size_t b = r.begin(); b < r.end(); ++b) {
-        unique[b] = dedupe(entries.data() + start[b], start[b + 1] - start[b], scratch.local());
+        unique[b] = dedupe(entries.code.data() + start[b], entries.depth.data() + start[b],
+                           start[b + 1] - start[b], scratch.local());
       }
     });
   });
@@ -948,11 +1090,13 @@ void add_vertices(VertexTable& t, const Grid& grid, const Leaves& fresh, ThreadE
     while (size < 2 * unique[b]) size *= 2;
     n.region[b + 1] = n.region[b] + size;
   }
-  n.slots.assign(n.region.back(), VertexTable::Slot{VertexTable::kNone, 0, 0});
+  n.slots.assign(n.region.back(), VertexTable::Slot{VertexTable::kNone, 0, 0, 0});
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb, 256), [&](auto r) {
       for (std::size_t b = r.begin(); b < r.end(); ++b) {
-        for (std::size_t i = 0; i < unique[b]; ++i) put(n, entries[start[b] + i], b);
+        for (std::size_t i = 0; i < unique[b]; ++i) {
+          put(n, entries.code[start[b] + i], entries.depth[start[b] + i], b);
+        }
       }
     });
   });
@@ -1049,15 +1193,19 @@ class Extractor {
     const Index3& p = leaf_.at;
     const std::uint32_t s = size_, h = s / 2;
     finer_ = false;
-    bool same = true;
+    bool same = true, maybe_finer = false;
     for (std::uint32_t k = 0; k < 8; ++k) {
       corner_keys_[k] =
           make_key({p[0] + (k & 1) * s, p[1] + ((k >> 1) & 1) * s, p[2] + ((k >> 2) & 1) * s});
-      corner_signs_[k] = table_sign(corner_keys_[k]);
+      const VertexTable::Slot* slot = table_.find(corner_keys_[k]);
+      corner_signs_[k] = table_sign(slot);
+      corner_finer_[k] = slot && slot->finest > leaf_.depth;
+      maybe_finer = maybe_finer || corner_finer_[k];
       same = same && corner_signs_[k] == corner_signs_[0];
     }
-    // Face centres (one coordinate at 0 or s, the others at h) and edge midpoints (one at h).
-    for (std::uint32_t k = 0; k < 27 && s > 1 && !finer_; ++k) {
+    // Face centres (one coordinate at 0 or s, the others at h) and edge midpoints (one at h):
+    // looked up only where a corner's finest leaf is finer than this one (VertexTable::Slot).
+    for (std::uint32_t k = 0; k < 27 && s > 1 && maybe_finer && !finer_; ++k) {
       const std::uint32_t c[3] = {k % 3, (k / 3) % 3, k / 9};
       const int mids = (c[0] == 1) + (c[1] == 1) + (c[2] == 1);
       if (mids != 1 && mids != 2) continue;
@@ -1076,9 +1224,23 @@ class Extractor {
     return make_key(p);
   }
 
-  // Cuts face (a, side) into the pieces that the leaves on its other side make.
+  // The leaf corner at (du, dv) (0 or 1 each, along the axes after a) of face (a, side).
+  static int face_corner(int a, int side, int du, int dv) {
+    return side << a | du << ((a + 1) % 3) | dv << ((a + 2) % 3);
+  }
+
+  // Cuts face (a, side) into the pieces that the leaves on its other side make. A finer leaf
+  // with a corner on the face (its sides included) has a finer leaf at one of the face's
+  // corners, and one with a corner on a side at one of the side's ends (VertexTable::Slot): so
+  // only such faces and sides are looked up.
   void face(int a, int side) {
     const std::uint32_t w = leaf_.at[std::size_t(a)] + (side ? size_ : 0);
+    for (int k = 0; k < 4; ++k) {
+      side_finer_[std::size_t(k)] =
+          corner_finer_[std::size_t(face_corner(a, side, k == 1 || k == 2, k >= 2))] ||
+          corner_finer_[std::size_t(face_corner(a, side, k == 0 || k == 1, k >= 1 && k <= 2))];
+    }
+    face_finer_ = finer_ && (side_finer_[0] || side_finer_[2]);
     piece(a, side, w, leaf_.at[std::size_t((a + 1) % 3)], leaf_.at[std::size_t((a + 2) % 3)],
           size_);
   }
@@ -1086,7 +1248,7 @@ class Extractor {
   void piece(int a, int side, std::uint32_t w, std::uint32_t u0, std::uint32_t v0,
              std::uint32_t s) {
     const std::uint32_t h = s / 2;
-    if (s > 1 && finer_ && table_.contains(key_at(a, w, u0 + h, v0 + h))) {
+    if (s > 1 && face_finer_ && table_.contains(key_at(a, w, u0 + h, v0 + h))) {
       for (int k = 0; k < 4; ++k) piece(a, side, w, u0 + (k & 1) * h, v0 + (k >> 1) * h, h);
       return;
     }
@@ -1098,7 +1260,8 @@ class Extractor {
       const auto& p = c[std::size_t(i)];
       const auto& q = c[std::size_t((i + 1) % 4)];
       cycle_.push_back(key_at(a, w, p[0], p[1]));
-      side_points(a, w, p, q, s);
+      // A side of the whole face: looked up only where one of its ends has a finer leaf.
+      if (s < size_ || side_finer_[std::size_t(i)]) side_points(a, w, p, q, s);
     }
     if (side == 0) std::reverse(cycle_.begin(), cycle_.end());
     pair_crossings(a, w, u0, v0, s);
@@ -1110,7 +1273,7 @@ class Extractor {
     if (len < 2) return;
     const std::array<std::uint32_t, 2> m = {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2};
     const Key km = key_at(a, w, m[0], m[1]);
-    if (!finer_ || !table_.contains(km)) return;
+    if (!face_finer_ || !table_.contains(km)) return;
     side_points(a, w, p, m, len / 2);
     cycle_.push_back(km);
     side_points(a, w, m, q, len / 2);
@@ -1124,8 +1287,8 @@ class Extractor {
     return table_sign(k);
   }
 
-  std::int8_t table_sign(Key k) {
-    const VertexTable::Slot* s = table_.find(k);
+  std::int8_t table_sign(Key k) { return table_sign(table_.find(k)); }
+  std::int8_t table_sign(const VertexTable::Slot* s) {
     if (!s) {  // cannot happen: every cycle point is a leaf corner
       out_.uncertain = true;
       return -1;
@@ -1436,6 +1599,12 @@ class Extractor {
   std::array<Key, 8> corner_keys_{};
   std::array<std::int8_t, 8> corner_signs_{};
   bool finer_ = false;
+  /// Per leaf corner: the finest leaf there is finer than this one; per side of the face being
+  /// cut (in the order of piece()'s cycle), one of its ends is such a corner; and one of the
+  /// face's corners is.
+  std::array<bool, 8> corner_finer_{};
+  std::array<bool, 4> side_finer_{};
+  bool face_finer_ = false;
   // Scratch space kept between leaves.
   std::vector<std::pair<Key, bool>> piece_crossings_;
   std::vector<std::uint32_t> loop_;
