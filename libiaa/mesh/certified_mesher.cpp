@@ -904,32 +904,32 @@ struct Entries {
   BigVector<std::uint8_t> depth;
 };
 
-/// The table's points and the corners of `fresh`, in no particular order.
-Entries table_entries(const VertexTable& t, const Grid& grid, const Leaves& fresh,
-                      const Exec& exec) {
+/// The table entry of corner k (bit a: upper along axis a) of leaf l: key << 3 | its code.
+std::uint64_t corner_entry(const Grid& grid, const Leaf& l, std::uint32_t k) {
+  const std::uint32_t s = grid.size(l.depth);
+  const std::uint64_t code =
+      kFresh + (l.kind != Kind::kEmpty ? 2 : (l.sign < 0 ? 0 : (l.sign > 0 ? 1 : 3)));
+  const Key key =
+      make_key({l.at[0] + (k & 1) * s, l.at[1] + ((k >> 1) & 1) * s, l.at[2] + ((k >> 2) & 1) * s});
+  return (key << 3) | code;
+}
+
+/// The table entry of a point already in the table: key << 3 | its code.
+std::uint64_t slot_entry(const VertexTable::Slot& s) {
+  return s.key << 3 | (s.uncertain == 2 ? 5 : (s.uncertain ? 2 : (s.sign > 0 ? 1 : 0)));
+}
+
+/// The corners of `fresh`, in no particular order.
+Entries corner_entries(const Grid& grid, const Leaves& fresh, const Exec& exec) {
   Entries out;
-  BigVector<std::uint64_t>& all = out.code;
-  BigVector<std::uint8_t>& depth = out.depth;
-  for (const VertexTable::Slot& s : t.slots) {
-    if (s.key == VertexTable::kNone) continue;
-    all.push_back(s.key << 3 | (s.uncertain == 2 ? 5 : (s.uncertain ? 2 : (s.sign > 0 ? 1 : 0))));
-    depth.push_back(s.finest);
-  }
-  const std::size_t old = all.size();
-  all.resize(old + 8 * fresh.size());
-  depth.resize(old + 8 * fresh.size());
+  out.code.resize(8 * fresh.size());
+  out.depth.resize(8 * fresh.size());
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, fresh.size(), 4096), [&](auto r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        const Leaf& l = fresh[i];
-        const std::uint32_t s = grid.size(l.depth);
-        const std::uint64_t code =
-            kFresh + (l.kind != Kind::kEmpty ? 2 : (l.sign < 0 ? 0 : (l.sign > 0 ? 1 : 3)));
         for (std::uint32_t k = 0; k < 8; ++k) {
-          const Key key = make_key(
-              {l.at[0] + (k & 1) * s, l.at[1] + ((k >> 1) & 1) * s, l.at[2] + ((k >> 2) & 1) * s});
-          all[old + 8 * i + k] = (key << 3) | code;
-          depth[old + 8 * i + k] = l.depth;
+          out.code[8 * i + k] = corner_entry(grid, fresh[i], k);
+          out.depth[8 * i + k] = fresh[i].depth;
         }
       }
     });
@@ -937,29 +937,42 @@ Entries table_entries(const VertexTable& t, const Grid& grid, const Leaves& fres
   return out;
 }
 
-/// `in` grouped by bucket (a counting sort); `start` gets each bucket's first entry.
-Entries by_bucket(const VertexTable& t, const Entries& in, std::vector<std::uint32_t>& start,
-                  const Exec& exec) {
-  const BigVector<std::uint64_t>& entries = in.code;
-  BigVector<std::uint32_t> bucket(entries.size());
-  exec.run([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries.size(), 16384), [&](auto r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        bucket[i] = std::uint32_t(t.bucket(entries[i] >> 3));
-      }
-    });
-  });
-  start.assign(t.region.size(), 0);
-  for (const std::uint32_t b : bucket) ++start[b + 1];
+/// The points of table `t` and the corners of `fresh`, grouped by their bucket in `n` (a counting
+/// sort; within a bucket, the table's points in slot order, then the corners leaf by leaf);
+/// `start` gets each bucket's first entry. The keys are computed twice, once to count and once to
+/// place, rather than kept in an array of all entries: such arrays (tens of megabytes on the thin
+/// torus) cost more in fresh pages, which the kernel must clear, than the arithmetic saves.
+Entries bucketed_entries(const VertexTable& t, const VertexTable& n, const Grid& grid,
+                         const Leaves& fresh, std::vector<std::uint32_t>& start) {
+  start.assign(n.region.size(), 0);
+  std::size_t total = 0;
+  for (const VertexTable::Slot& s : t.slots) {
+    if (s.key == VertexTable::kNone) continue;
+    ++start[n.bucket(s.key) + 1];
+    ++total;
+  }
+  for (const Leaf& l : fresh) {
+    for (std::uint32_t k = 0; k < 8; ++k) ++start[n.bucket(corner_entry(grid, l, k) >> 3) + 1];
+  }
+  total += 8 * fresh.size();
   for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
   std::vector<std::uint32_t> next(start.begin(), start.end() - 1);
   Entries out;
-  out.code.resize(entries.size());
-  out.depth.resize(entries.size());
-  for (std::size_t i = 0; i < entries.size(); ++i) {
-    const std::uint32_t j = next[bucket[i]]++;
-    out.code[j] = entries[i];
-    out.depth[j] = in.depth[i];
+  out.code.resize(total);
+  out.depth.resize(total);
+  for (const VertexTable::Slot& s : t.slots) {
+    if (s.key == VertexTable::kNone) continue;
+    const std::uint32_t j = next[n.bucket(s.key)]++;
+    out.code[j] = slot_entry(s);
+    out.depth[j] = s.finest;
+  }
+  for (const Leaf& l : fresh) {
+    for (std::uint32_t k = 0; k < 8; ++k) {
+      const std::uint64_t e = corner_entry(grid, l, k);
+      const std::uint32_t j = next[n.bucket(e >> 3)]++;
+      out.code[j] = e;
+      out.depth[j] = l.depth;
+    }
   }
   return out;
 }
@@ -1064,16 +1077,17 @@ void evaluate_signs(VertexTable& t, const Grid& grid, ThreadEvaluators& evals, c
 void add_vertices(VertexTable& t, const Grid& grid, const Leaves& fresh, ThreadEvaluators& evals,
                   const Exec& exec) {
   if (!t.slots.empty()) {
-    if (add_in_place(t, table_entries(VertexTable{}, grid, fresh, exec))) {
+    if (add_in_place(t, corner_entries(grid, fresh, exec))) {
       return evaluate_signs(t, grid, evals, exec);
     }
   }
-  Entries entries = table_entries(t, grid, fresh, exec);
+  std::size_t points = 8 * fresh.size();
+  for (const VertexTable::Slot& s : t.slots) points += s.key != VertexTable::kNone;
   VertexTable n;
-  choose_buckets(n, grid, entries.code.size());
+  choose_buckets(n, grid, points);
   n.region.assign(std::size_t{n.buckets[0]} * n.buckets[1] * n.buckets[2] + 1, 0);
   std::vector<std::uint32_t> start;
-  entries = by_bucket(n, entries, start, exec);
+  Entries entries = bucketed_entries(t, n, grid, fresh, start);
   const std::size_t nb = n.region.size() - 1;
   std::vector<std::uint32_t> unique(nb, 0);
   tbb::enumerable_thread_specific<DedupeScratch> scratch;
