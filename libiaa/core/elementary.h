@@ -48,18 +48,30 @@ struct Quadrant {
 /// - k C3 has error <= 2^-101 (|k C3| < 2^-49), k d < 2^-102; the last subtraction rounds with
 ///   relative error <= 2^-52.
 /// So |r_computed - r| <= 2^-51 |r| + 2^-99 for k != 0, and r = x exactly for k = 0.
+inline constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
+inline constexpr double kHalfPi1 = 0x1.921fb544p+0, kHalfPi2 = 0x1.0b4611a6p-34,
+                        kHalfPi3 = 0x1.3198a2e037073p-69;
 inline Quadrant reduce_half_pi(double x) {
-  constexpr double kTwoOverPi = 0x1.45f306dc9c883p-1;
-  constexpr double kC1 = 0x1.921fb544p+0, kC2 = 0x1.0b4611a6p-34, kC3 = 0x1.3198a2e037073p-69;
   const double y = x * kTwoOverPi;
   const auto k = static_cast<std::int64_t>(y + std::copysign(0.5, y));
   const double kd = static_cast<double>(k);
-  return {((x - kd * kC1) - kd * kC2) - kd * kC3, k};
+  return {((x - kd * kHalfPi1) - kd * kHalfPi2) - kd * kHalfPi3, k};
 }
 
 /// Absolute error of the reduction as it reaches sin and cos (see reduce_half_pi), to add to
 /// kRelErr * |v| when k != 0: 2^-99 rounded far up.
 inline constexpr double kReducedAbsErr = 0x1p-96;
+
+/// c as a T: a double, or a vector of doubles with c in every lane (a constant of the vector
+/// type, rather than a scalar GCC broadcasts at run time).
+template <class T>
+constexpr T splat(double c) {
+  if constexpr (sizeof(T) == sizeof(double)) {
+    return c;
+  } else {
+    return T{c, c};
+  }
+}
 
 /// sin r for |r| <= 0.786, as r + r (z P(z)), z = r^2, P(z) = (sin r - r) / r^3 to z^6 (the
 /// Taylor polynomial of sin to r^15).
@@ -70,14 +82,16 @@ inline constexpr double kReducedAbsErr = 0x1p-96;
 /// add, |s - sin r| <= (0.54 + 1 + 0.3) e |s|. The reduction's error dr moves sin r by at most
 /// |dr| <= 2^-51 |r| + 2^-99 <= 2.3 e |s| + 2^-99: 4.2 e |s| + 2^-99 in all. An underflow of z
 /// or t adds at most a few 2^-1074.
-inline double sin_poly(double r) {
+template <class T>
+inline T sin_poly(T r) {
+  constexpr auto K = splat<T>;
   // P = -1/3! + z T, the tail T by Estrin's scheme in w = z^2 (shorter dependency chains than
   // Horner's). z T <= 0.0052 |P|, so T's own rounding errors (a few e) count for under 0.03 e.
-  const double z = r * r, w = z * z;
-  const double t = (0x1.1111111111111p-7 - z * 0x1.a01a01a01a01ap-13) +            // 1/5!, 1/7!
-                   w * (0x1.71de3a556c734p-19 - z * 0x1.ae64567f544e4p-26) +       // 1/9!, 1/11!
-                   (w * w) * (0x1.6124613a86d09p-33 - z * 0x1.ae7f3e733b81fp-41);  // 1/13!, 1/15!
-  const double p = -0x1.5555555555555p-3 + z * t;                                  // -1/3!
+  const T z = r * r, w = z * z;
+  const T t = (K(0x1.1111111111111p-7) - z * K(0x1.a01a01a01a01ap-13)) +            // 1/5!, 1/7!
+              w * (K(0x1.71de3a556c734p-19) - z * K(0x1.ae64567f544e4p-26)) +       // 1/9!, 1/11!
+              (w * w) * (K(0x1.6124613a86d09p-33) - z * K(0x1.ae7f3e733b81fp-41));  // 1/13!, 1/15!
+  const T p = K(-0x1.5555555555555p-3) + z * t;                                     // -1/3!
   return r + r * (z * p);
 }
 
@@ -88,15 +102,18 @@ inline double sin_poly(double r) {
 /// within 3.6 e, i.e. 1.1 e absolutely; with the last add and c >= 0.707, |c - cos r| <= (1.6 + 1 +
 /// 0.02) e |c|. The reduction's error dr moves cos r by at most |sin r| |dr| <= 0.71 (2^-51 0.786 +
 /// 2^-99) <= 1.6 e |c| + 2^-99: 4.3 e |c| + 2^-99 in all.
-inline double cos_poly(double r) {
+template <class T>
+inline T cos_poly(T r) {
+  constexpr auto K = splat<T>;
   // Q = -1/2 + z T, the tail T by Estrin's scheme as in sin_poly (z T <= 0.026 |Q|).
-  const double z = r * r, w = z * z;
-  const double t = (0x1.5555555555555p-5 - z * 0x1.6c16c16c16c17p-10) +              // 1/4!, 1/6!
-                   w * (0x1.a01a01a01a01ap-16 - z * 0x1.27e4fb7789f5cp-22) +         // 1/8!, 1/10!
-                   (w * w) * ((0x1.1eed8eff8d898p-29 - z * 0x1.93974a8c07c9dp-37) +  // 1/12!, 1/14!
-                              w * 0x1.ae7f3e733b81fp-45);                            // 1/16!
-  const double q = -0.5 + z * t;
-  return 1.0 + z * q;
+  const T z = r * r, w = z * z;
+  const T t =
+      (K(0x1.5555555555555p-5) - z * K(0x1.6c16c16c16c17p-10)) +              // 1/4!, 1/6!
+      w * (K(0x1.a01a01a01a01ap-16) - z * K(0x1.27e4fb7789f5cp-22)) +         // 1/8!, 1/10!
+      (w * w) * ((K(0x1.1eed8eff8d898p-29) - z * K(0x1.93974a8c07c9dp-37)) +  // 1/12!, 1/14!
+                 w * K(0x1.ae7f3e733b81fp-45));                               // 1/16!
+  const T q = K(-0.5) + z * t;
+  return K(1.0) + z * q;
 }
 
 /// sin x from the reduction x = k pi/2 + r and s = sin r, c = cos r: s, c, -s, -c for k = 0, 1,
@@ -108,6 +125,92 @@ inline double sin_of(std::int64_t k, double s, double c) {
   const std::uint64_t bits =
       (std::bit_cast<std::uint64_t>(c) & odd) | (std::bit_cast<std::uint64_t>(s) & ~odd);
   return std::bit_cast<double>(bits ^ (static_cast<std::uint64_t>(k & 2) << 62));
+}
+
+/// An argument reduced by reduce_half_pi, with sin r and cos r.
+struct ReducedTrig {
+  Quadrant q;
+  double s, c;
+};
+
+#if defined(__GNUC__) || defined(__clang__)
+#define IAA_ELEMENTARY_LANES 1
+/// Two doubles (or integers) in one SSE2 register on x86-64 (GCC's and Clang's vector
+/// extension; plain pairs elsewhere). Operations on them work lane by lane, as on scalars.
+using V2d = double __attribute__((vector_size(16)));
+using V2l = std::int64_t __attribute__((vector_size(16)));
+using V2u = std::uint64_t __attribute__((vector_size(16)));
+
+/// reduce_half_pi, sin_poly and cos_poly of two arguments at once, one per lane: the same
+/// operations in the same order on each lane, so the results are the same doubles as the scalar
+/// kernels' in every rounding mode (no FMA contraction: the build targets baseline x86-64, which
+/// has none; tests/core/elementary_mpfr_test.cpp checks bit equality in all four modes). The
+/// error bounds above hold unchanged. About half the instructions of two scalar passes: the
+/// interval rules of sin and cos take both ends of an interval here. |x| <= kTrigMax (not
+/// checked).
+struct TrigLanes {
+  V2d r;
+  V2l k;
+  V2d s, c;
+};
+inline TrigLanes reduce_sin_cos_lanes(V2d x) {
+  using V2i = std::int32_t __attribute__((vector_size(8)));
+  const V2d y = x * kTwoOverPi;
+  // copysign(0.5, y) by the sign bit; the truncation to int32 (|k| < 2^20) is reduce_half_pi's.
+  const V2d half = std::bit_cast<V2d>((std::bit_cast<V2u>(y) & 0x8000000000000000ULL) |
+                                      std::bit_cast<std::uint64_t>(0.5));
+  const V2i k = __builtin_convertvector(y + half, V2i);
+  const V2d kd = __builtin_convertvector(k, V2d);
+  const V2d r = ((x - kd * kHalfPi1) - kd * kHalfPi2) - kd * kHalfPi3;
+  return {r, __builtin_convertvector(k, V2l), sin_poly(r), cos_poly(r)};
+}
+
+/// sin_of on both lanes (the same bit operations).
+inline V2d sin_of_lanes(V2l k, V2d s, V2d c) {
+  const V2u odd = std::bit_cast<V2u>(0 - (k & 1));
+  const V2u bits = (std::bit_cast<V2u>(c) & odd) | (std::bit_cast<V2u>(s) & ~odd);
+  return std::bit_cast<V2d>(bits ^ (std::bit_cast<V2u>(k & 2) << 62));
+}
+#endif
+
+/// The reduction and both polynomials of two arguments (reduce_sin_cos_lanes where the vector
+/// extension exists): the same doubles as reduce_half_pi, sin_poly and cos_poly of each.
+inline void reduce_sin_cos2(double a, double b, ReducedTrig* ra, ReducedTrig* rb) {
+#ifdef IAA_ELEMENTARY_LANES
+  const TrigLanes t = reduce_sin_cos_lanes(V2d{a, b});
+  *ra = {{t.r[0], t.k[0]}, t.s[0], t.c[0]};
+  *rb = {{t.r[1], t.k[1]}, t.s[1], t.c[1]};
+#else
+  const Quadrant qa = reduce_half_pi(a), qb = reduce_half_pi(b);
+  *ra = {qa, sin_poly(qa.r), cos_poly(qa.r)};
+  *rb = {qb, sin_poly(qb.r), cos_poly(qb.r)};
+#endif
+}
+
+/// sin_poly(r) and cos_poly(r) in one pass (point sincos), lane 0 the sine, lane 1 the cosine:
+/// the same doubles as the two scalar calls. The tails are the same Estrin scheme with the
+/// coefficients of each, the sine's with a last term w * 0 (+0, and adding +0 to its tail,
+/// which is never 0, changes nothing in any mode); then the sine is r + r (z P) and the cosine
+/// 1 + 1 (z Q), the product by 1 being exact.
+inline void sin_cos_poly(double r, double* s, double* c) {
+#ifdef IAA_ELEMENTARY_LANES
+  const double z = r * r, w = z * z;
+  const V2d t = (V2d{0x1.1111111111111p-7, 0x1.5555555555555p-5} -
+                 z * V2d{0x1.a01a01a01a01ap-13, 0x1.6c16c16c16c17p-10}) +
+                w * (V2d{0x1.71de3a556c734p-19, 0x1.a01a01a01a01ap-16} -
+                     z * V2d{0x1.ae64567f544e4p-26, 0x1.27e4fb7789f5cp-22}) +
+                (w * w) * ((V2d{0x1.6124613a86d09p-33, 0x1.1eed8eff8d898p-29} -
+                            z * V2d{0x1.ae7f3e733b81fp-41, 0x1.93974a8c07c9dp-37}) +
+                           w * V2d{0.0, 0x1.ae7f3e733b81fp-45});
+  const V2d u = z * (V2d{-0x1.5555555555555p-3, -0.5} + z * t);
+  const V2d a = {r, 1.0};
+  const V2d v = a + a * u;
+  *s = v[0];
+  *c = v[1];
+#else
+  *s = sin_poly(r);
+  *c = cos_poly(r);
+#endif
 }
 
 /// Absolute error term of sin x and cos x from reduce_half_pi(x): kReducedAbsErr after a
@@ -292,7 +395,8 @@ inline void sincos(double x, double* s, double* c) {
     return;
   }
   const Quadrant q = reduce_half_pi(x);
-  const double sr = sin_poly(q.r), cr = cos_poly(q.r);
+  double sr, cr;
+  sin_cos_poly(q.r, &sr, &cr);
   *s = sin_of(q.k, sr, cr);
   *c = sin_of(q.k + 1, sr, cr);
 }

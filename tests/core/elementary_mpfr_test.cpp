@@ -8,12 +8,15 @@
 #include <mpfr.h>
 
 #include <algorithm>
+#include <bit>
 #include <cfenv>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "core/elementary.h"
@@ -150,6 +153,39 @@ TEST(ElementaryMpfr, SinAndCosKernelsWithinHalfTheirBound) {
   });
   std::printf("sin: worst error %.3f of the bound, cos: %.3f (%zu arguments, 4 modes)\n", ws, wc,
               xs.size());
+}
+
+/// The interval rules take both ends of an argument through reduce_sin_cos2 (two lanes at once),
+/// point sincos takes sin r and cos r from sin_cos_poly (one pass): both must give the scalar
+/// kernels' doubles bit for bit, in every rounding mode, so that the bounds proved above hold for
+/// them. (IntervalRulesContainTheEndsAndTheExtrema checks that the interval sincos, which runs
+/// the ends in lanes, equals sin and cos, which run them one at a time.)
+TEST(ElementaryMpfr, PairedTrigKernelIsTheScalarOne) {
+  std::mt19937_64 rng(19);
+  const std::vector<double> xs = arguments(rng, el::kTrigMax, near_half_pi_multiples(rng));
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  long checked = 0;
+  for (int mode : kModes) {
+    std::fesetround(mode);
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const double a = xs[i], b = xs[(i * 7 + 1) % xs.size()];
+      el::ReducedTrig ra, rb;
+      el::reduce_sin_cos2(a, b, &ra, &rb);
+      for (const auto& [x, r] : {std::pair{a, ra}, std::pair{b, rb}}) {
+        const el::Quadrant q = el::reduce_half_pi(x);
+        const double s = el::sin_poly(q.r), c = el::cos_poly(q.r);
+        double s1 = 0, c1 = 0;  // point sincos's one-pass polynomials
+        el::sin_cos_poly(q.r, &s1, &c1);
+        const bool same = q.k == r.q.k && bits(q.r) == bits(r.q.r) && bits(s) == bits(r.s) &&
+                          bits(c) == bits(r.c) && bits(s) == bits(s1) && bits(c) == bits(c1);
+        if (!same) std::fesetround(FE_TONEAREST);
+        ASSERT_TRUE(same) << "x = " << std::hexfloat << x << ", mode " << mode;
+        ++checked;
+      }
+    }
+  }
+  std::fesetround(FE_TONEAREST);
+  EXPECT_EQ(checked, 8 * static_cast<long>(xs.size()));
 }
 
 TEST(ElementaryMpfr, ExpKernelWithinHalfItsBound) {
