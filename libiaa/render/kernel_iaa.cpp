@@ -34,6 +34,10 @@ constexpr double kPixelMinParts = 0.25;
 constexpr int kRootMarch = 8;
 /// Most point values along one coverage ray of a Partial part (steps of one footprint).
 constexpr int kCoverageMarch = 64;
+/// Samples per side of a Full part (at the centres of a grid over it) searched for shadows when
+/// the cone test cannot tell whether a shadow edge crosses it (shade, ShadowPart): 4 at level
+/// 0, halved per level, at least 2.
+constexpr int kShadowSamples = 4;
 /// Most depth pieces of a Full beam's hit segment over which the estimator is taken (halves first,
 /// then halves of those that may hold a hit while the hull is too wide: beam_estimator).
 constexpr int kEstimatorPieces = 8;
@@ -111,6 +115,38 @@ double full_root(RenderContext& ctx, const Vec3& d, const BeamSearch& s, double 
   if (!(ga > 0) || !(gb < 0)) return 0.5 * (s.t_near + s.t_far);  // no usable point signs
   return first_crossing(g, a, s.t_far, ga, gb, tol, first);
 }
+
+/// The shadow samples of a Full part: the hits of the central rays of a grid of its sub-parts,
+/// found as its shading point is (full_root).
+class FullPartShadow final : public ShadowPart {
+ public:
+  FullPartShadow(RenderContext& ctx, const PixelRect& rect, const BeamSearch& s, int n, double tol,
+                 double first)
+      : ctx_(ctx), rect_(rect), s_(s), tol_(tol), first_(first) {
+    patch = s.hit_box;
+    side = n;
+  }
+
+  int samples(int side_, Vec3* points) override {
+    const CameraFrame& fr = ctx_.setup.frame;
+    int n = 0;
+    for (int j = 0; j < side_; ++j) {
+      for (int i = 0; i < side_; ++i) {
+        const double u = rect_.u0 + (i + 0.5) / side_ * rect_.width();
+        const double v = rect_.v0 + (j + 0.5) / side_ * rect_.height();
+        const Vec3 d = fr.dir(u, v);
+        points[n++] = fr.eye + full_root(ctx_, d, s_, tol_, first_) * d;
+      }
+    }
+    return n;
+  }
+
+ private:
+  RenderContext& ctx_;
+  const PixelRect& rect_;
+  const BeamSearch& s_;
+  double tol_, first_;
+};
 
 /// One pixel's subdivision: the sums over its leaves and the shadow searches they share.
 class IaaPixel {
@@ -261,7 +297,15 @@ class IaaPixel {
     Vec3 n;
     // Leaves of this pixel within a pixel's footprint of each other share shadow searches.
     shadow_cache_.radius = su_.frame.scale * s.t_near;
-    const Vec3 c = shade(ctx_, p, g, ph.d, &n, &shadow_cache_);
+    Vec3 c;
+    if (s.result == BeamResult::kFull && st_.shadows) {
+      // The part is rect.width() pixels wide (1 at level 0, halved per level).
+      const int side = std::max(2, static_cast<int>(kShadowSamples * rect.width() + 0.5));
+      FullPartShadow part(ctx_, rect, s, side, ph.tol, ph.foot);
+      c = shade(ctx_, p, g, ph.d, &n, &shadow_cache_, &part);
+    } else {
+      c = shade(ctx_, p, g, ph.d, &n, &shadow_cache_);
+    }
     if (t) {
       t->center_ray_hit = ph.central;
       t->coverage_ray_hit = ph.h.hit && !ph.central;
@@ -280,6 +324,8 @@ class IaaPixel {
     Vec3 d;
     RayHit h;
     bool central = false;  ///< the central ray found the surface
+    double tol = 0;        ///< depth tolerance of its hit
+    double foot = 0;       ///< its footprint at its depth
   };
 
   /// The hit of the central ray of a part (ph holds it), which chooses its shading point, and
@@ -300,6 +346,8 @@ class IaaPixel {
     // grazing rays a fine tolerance costs many evaluations for no visible difference.
     const double foot = su_.frame.scale * side * sr.lo();
     const double shade_tol = std::max(su_.ray_tol, kShadeTolerance * foot);
+    ph->tol = shade_tol;
+    ph->foot = foot;
     *weight = 1.0;
     coverage_rays_ = coverage_hits_ = 0;
     RayHit& h = ph->h;

@@ -131,7 +131,7 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
 }
 
 bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol,
-                     double first) {
+                     double first, double* at, double* narrowest, double from) {
   if (range.is_empty()) return false;
   PieceStack st;
   // Pieces of width first, first, 2 first, 4 first, ... from the front (each after the first as
@@ -154,8 +154,12 @@ bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interva
     if (box.is_empty()) continue;
     const Interval f = ctx.eval(box);
     if (f.is_empty() || !f.contains_zero()) continue;
+    if (narrowest && a >= from) *narrowest = std::min(*narrowest, b - a);
     const double m = 0.5 * (a + b);
-    if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) return true;
+    if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) {
+      if (at) *at = a;
+      return true;
+    }
     st.push(m, b);
     st.push(a, m);
   }

@@ -29,8 +29,11 @@ RayHit search_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Inter
 /// (a shadow ray). Stops at the first piece of width <= tol that still contains 0. With `first`
 /// > 0 the range is first cut into pieces of width first, first, 2 first, 4 first, ... from its
 /// front (for a segment that starts close to the surface, such as a shadow ray); else it is
-/// bisected from the whole.
+/// bisected from the whole. With `at`, a true result sets it to the front of that piece. With
+/// `narrowest` (and `from`), it gets the width of the narrowest piece starting at `from` or
+/// beyond that may hold the surface (unchanged when none): how close the segment passes.
 bool segment_may_hit(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
-                     double tol, double first = 0);
+                     double tol, double first = 0, double* at = nullptr,
+                     double* narrowest = nullptr, double from = 0);
 
 }  // namespace iaa
