@@ -21,6 +21,7 @@ CertifiedMeshSettings certified_settings(const Surface& s, const MeshParams& p) 
   cs.max_depth = p.max_depth;
   cs.max_boxes = p.max_boxes;
   cs.strict = p.strict;
+  cs.proof_cache = p.proof_cache;
   cs.min_depth = 0;
   cs.validate();
   cs.min_depth = p.min_depth >= 0 ? p.min_depth : certified_depth_for_resolution(cs, p.resolution);
@@ -40,6 +41,7 @@ void run_certified(const Surface& s, const MeshParams& p, const Exec& exec, Mesh
   run.details = {{"min_depth", cs.min_depth},
                  {"max_depth", cs.max_depth},
                  {"strict", cs.strict},
+                 {"proof_cache", cs.proof_cache},
                  {"root_cells", st.roots},
                  {"leaves", st.leaves},
                  {"empty_leaves", st.empty_leaves},

@@ -58,8 +58,9 @@ struct MeshParams {
   int min_depth = -1;  ///< certified: splits below the root cells at least; -1: from resolution
   int max_depth = CertifiedMeshSettings{}.max_depth;  ///< certified: the certification limit
   bool strict = false;                                ///< certified: prove faces and edges too
-  int depth = 0;                                      ///< octree depth; 0: from resolution
-  int refine = 4;                                     ///< octree: extra levels for possible leaves
+  bool proof_cache = true;  ///< certified: reuse neighbours' proofs (CertifiedMeshSettings)
+  int depth = 0;            ///< octree depth; 0: from resolution
+  int refine = 4;           ///< octree: extra levels for possible leaves
   double flat_tolerance = OctreeMeshSettings{}.flat_tolerance;  ///< octree: see the setting
   std::uint64_t max_boxes = EncloseSettings{}.max_boxes;
   double facet_size = 0;      ///< cgal; 0: from resolution

@@ -138,23 +138,34 @@ class ProofCache {
     std::int8_t ok = 0;     ///< 1 proved, -1 refuted
     FaceProof proof;        ///< a face's
   };
-  /// The slot where (corner, what) is or would go.
-  Entry& slot(Key corner, std::uint8_t what) {
-    const std::uint64_t h = (corner ^ (std::uint64_t(what) << 56)) * 0x9E3779B97F4A7C15ull;
-    return entries_[h >> (64 - kBits)];
+  explicit ProofCache(bool enabled) : enabled_(enabled) {}
+  /// The entry of (corner, what) when the cache holds it, else null.
+  const Entry* find(Key corner, std::uint8_t what) {
+    const Entry& e = slot(corner, what);
+    return enabled_ && e.corner == corner && e.what == what ? &e : nullptr;
+  }
+  /// Keeps (corner, what)'s proof, in place of what its slot held.
+  void keep(const Entry& entry) {
+    if (enabled_) slot(entry.corner, entry.what) = entry;
   }
   static std::uint8_t what(int depth, int axis, bool edge) {
     return std::uint8_t(depth | axis << 5 | int(edge) << 7);
   }
 
  private:
+  /// The slot where (corner, what) is or would go.
+  Entry& slot(Key corner, std::uint8_t what) {
+    const std::uint64_t h = (corner ^ (std::uint64_t(what) << 56)) * 0x9E3779B97F4A7C15ull;
+    return entries_[h >> (64 - kBits)];
+  }
   static constexpr int kBits = 12;
-  std::vector<Entry> entries_ = std::vector<Entry>(std::size_t{1} << kBits);
+  bool enabled_;
+  std::vector<Entry> entries_ = std::vector<Entry>(enabled_ ? std::size_t{1} << kBits : 1);
 };
 
 /// Per-thread evaluators.
 struct Evaluators {
-  explicit Evaluators(const Tape& t) : f(t), g(t), p(t), pg(t) {
+  Evaluators(const Tape& t, bool proof_cache) : proofs(proof_cache), f(t), g(t), p(t), pg(t) {
     partials.reserve(6);  // the evaluators keep their addresses
     for (int wanted = 1; wanted < 7; ++wanted) partials.emplace_back(t, detail::VarMask(wanted));
   }
@@ -533,13 +544,12 @@ bool locally_certified(Evaluators& e, const Box3& b, const Index3& at, std::uint
       corner[std::size_t(a)] += side ? size : 0;
       const Key key = make_key(corner);
       const std::uint8_t what = ProofCache::what(depth, a, false);
-      ProofCache::Entry& known = e.proofs.slot(key, what);
-      if (known.corner == key && known.what == what) {
-        state = known.ok;
-        memo.face[a][side] = known.proof;
+      if (const ProofCache::Entry* known = e.proofs.find(key, what)) {
+        state = known->ok;
+        memo.face[a][side] = known->proof;
       } else {
         state = face_ok(e, b, a, side, memo.face[a][side]) ? 1 : -1;
-        known = {key, what, state, memo.face[a][side]};
+        e.proofs.keep({key, what, state, memo.face[a][side]});
       }
     }
     return state > 0;
@@ -564,15 +574,14 @@ bool locally_certified(Evaluators& e, const Box3& b, const Index3& at, std::uint
         corner[std::size_t(v)] += (k & 2) ? size : 0;
         const Key key = make_key(corner);
         const std::uint8_t what = ProofCache::what(depth, a, true);
-        ProofCache::Entry& known = e.proofs.slot(key, what);
-        if (known.corner == key && known.what == what) {
-          state = known.ok;
+        if (const ProofCache::Entry* known = e.proofs.find(key, what)) {
+          state = known->ok;
         } else {
           Box3 ed = b;
           ed.lo[u] = ed.hi[u] = (k & 1) ? b.hi[u] : b.lo[u];
           ed.lo[v] = ed.hi[v] = (k & 2) ? b.hi[v] : b.lo[v];
           state = edge_ok(e, ed, a) ? 1 : -1;
-          known = {key, what, state, FaceProof{}};
+          e.proofs.keep({key, what, state, FaceProof{}});
         }
       }
       if (state < 0) return false;
@@ -2202,7 +2211,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
                              const Exec& exec) {
   settings.validate();
   const Grid grid = make_grid(settings);
-  ThreadEvaluators evals([&] { return std::make_unique<Evaluators>(tape); });
+  ThreadEvaluators evals([&] { return std::make_unique<Evaluators>(tape, settings.proof_cache); });
   std::atomic<std::uint64_t> count{0};
   const Refiner refiner(grid, settings, count, exec.progress);
   std::vector<std::pair<Index3, int>> roots;

@@ -62,6 +62,11 @@ struct CertifiedMeshSettings {
   /// Vegter's argument (docs/mesh.md). Strict mode refines much deeper where the surface is
   /// tangent to a grid plane.
   bool strict = false;
+  /// Keep each thread's recent face and edge proofs for the neighbouring cells (ProofCache). The
+  /// mesh and certificates are the same either way; with the cache the count of interval
+  /// evaluations is lower but depends on which thread (or process) meets which cell, without it
+  /// the count is the same for any number of threads and processes (for tests and comparisons).
+  bool proof_cache = true;
 
   /// Fine grid coordinates must fit 19 bits per axis: max_depth + log2(roots per axis) <= 19.
   static constexpr int kGridBits = 19;

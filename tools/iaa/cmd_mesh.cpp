@@ -242,6 +242,10 @@ void setup(CLI::App& app) {
   app.add_flag("--strict", o->p.strict,
                "certified: also prove every face free of critical points and every edge "
                "monotone (slower; see docs/mesh.md)");
+  app.add_flag("!--no-proof-cache", o->p.proof_cache,
+               "certified: prove every face and edge afresh instead of reusing a neighbour's "
+               "proof: the same mesh, more work, but an evaluation count that is the same for "
+               "any number of threads or processes (for comparisons)");
   app.add_option("--uncertified", o->uncertified,
                  "certified: write the boxes of the uncertified cells (.vtu)");
   app.add_option("--refine", o->p.refine, "octree: extra levels for possible leaves (0..8)")
