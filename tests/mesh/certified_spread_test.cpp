@@ -5,110 +5,16 @@
 // fail on every process.
 #include <gtest/gtest.h>
 
-#include <condition_variable>
-#include <map>
-#include <mutex>
-#include <thread>
-
 #include "core/error.h"
 #include "core/exec.h"
-#include "core/spread.h"
 #include "mesh/certified_mesher.h"
 #include "test_scenes.h"
+#include "test_spread.h"
 
 namespace iaa {
 namespace {
 
-/// One loop as the simulated processes share it: the next item, and the results once all came.
-struct Loop {
-  bool started = false;
-  std::uint64_t items = 0, next = 0;
-  std::vector<int> owner;
-  std::vector<std::string> results;
-  std::vector<std::uint64_t> work;
-  int arrived = 0;
-};
-
-struct Board {
-  explicit Board(int k) : processes(k) {}
-  int processes;
-  std::mutex m;
-  std::condition_variable cv;
-  std::map<int, Loop> loops;  ///< by loop number (every process runs the same loops in order)
-};
-
-class BoardSpread final : public Spread {
- public:
-  BoardSpread(Board& b, int rank) : b_(b), rank_(rank) {}
-  int size() const override { return b_.processes; }
-  int rank() const override { return rank_; }
-  void begin(std::uint64_t items, const ProgressPhase*) override {
-    std::lock_guard<std::mutex> lock(b_.m);
-    Loop& l = b_.loops[++loop_];
-    if (!l.started) {
-      l.started = true;
-      l.items = items;
-      l.owner.assign(items, -1);
-      l.results.assign(items, {});
-      l.work.assign(items, 0);
-    }
-    EXPECT_EQ(l.items, items);
-  }
-  std::int64_t next() override {
-    std::lock_guard<std::mutex> lock(b_.m);
-    Loop& l = b_.loops[loop_];
-    if (l.next >= l.items) return -1;
-    l.owner[l.next] = rank_;
-    return static_cast<std::int64_t>(l.next++);
-  }
-  SpreadBalance finish(std::vector<std::string>& results,
-                       std::vector<std::uint64_t>& work) override {
-    std::unique_lock<std::mutex> lock(b_.m);
-    Loop& l = b_.loops[loop_];
-    for (std::uint64_t i = 0; i < l.items; ++i) {
-      if (l.owner[i] != rank_) continue;
-      l.results[i] = results[i];
-      l.work[i] = work[i];
-    }
-    ++l.arrived;
-    b_.cv.notify_all();
-    b_.cv.wait(lock, [&] { return l.arrived == b_.processes; });
-    results = l.results;
-    work = l.work;
-    SpreadBalance bal;
-    bal.ranks.resize(std::size_t(b_.processes));
-    for (std::uint64_t i = 0; i < l.items; ++i) {
-      RankLoad& r = bal.ranks[std::size_t(l.owner[i])];
-      ++r.items;
-      r.work += l.work[i];
-    }
-    return bal;
-  }
-
- private:
-  Board& b_;
-  int rank_;
-  int loop_ = -1;
-};
-
-/// Runs f(exec) as K simulated processes (one or two threads each), returning each one's result.
-template <class F>
-auto run_spread(int k, F f) {
-  Board board(k);
-  std::vector<decltype(f(Exec{}))> out(static_cast<std::size_t>(k));
-  std::vector<std::thread> procs;
-  for (int r = 0; r < k; ++r) {
-    procs.emplace_back([&, r] {
-      BoardSpread spread(board, r);
-      Exec exec;
-      exec.threads = 1 + r % 2;
-      exec.spread = &spread;
-      out[std::size_t(r)] = f(exec);
-    });
-  }
-  for (auto& p : procs) p.join();
-  return out;
-}
+using test::run_spread;
 
 // Without the proof cache every count is exact whatever the layout of threads and processes; with
 // it (below) the hits depend on which thread meets which cell, and the cache only saves work.

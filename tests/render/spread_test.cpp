@@ -4,100 +4,17 @@
 // for every item and evaluation.
 #include <gtest/gtest.h>
 
-#include <condition_variable>
-#include <mutex>
-#include <thread>
-
 #include "core/error.h"
 #include "core/exec.h"
-#include "core/spread.h"
 #include "enclose/octree.h"
 #include "render/render.h"
 #include "test_scenes.h"
+#include "test_spread.h"
 
 namespace iaa {
 namespace {
 
-/// What the simulated processes share: the next item, and the results once all have arrived.
-struct Board {
-  explicit Board(int k) : processes(k) {}
-  int processes;
-  std::mutex m;
-  std::condition_variable cv;
-  std::uint64_t items = 0, next = 0;
-  std::vector<int> owner;
-  std::vector<std::string> results;
-  std::vector<std::uint64_t> work;
-  int begun = 0, arrived = 0;
-};
-
-class BoardSpread final : public Spread {
- public:
-  BoardSpread(Board& b, int rank) : b_(b), rank_(rank) {}
-  int size() const override { return b_.processes; }
-  int rank() const override { return rank_; }
-  void begin(std::uint64_t items, const ProgressPhase*) override {
-    std::lock_guard<std::mutex> lock(b_.m);
-    if (b_.begun++ == 0) {
-      b_.items = items;
-      b_.owner.assign(items, -1);
-      b_.results.assign(items, {});
-      b_.work.assign(items, 0);
-    }
-    EXPECT_EQ(b_.items, items);
-  }
-  std::int64_t next() override {
-    std::lock_guard<std::mutex> lock(b_.m);
-    if (b_.next >= b_.items) return -1;
-    b_.owner[b_.next] = rank_;
-    return static_cast<std::int64_t>(b_.next++);
-  }
-  SpreadBalance finish(std::vector<std::string>& results,
-                       std::vector<std::uint64_t>& work) override {
-    std::unique_lock<std::mutex> lock(b_.m);
-    for (std::uint64_t i = 0; i < b_.items; ++i) {
-      if (b_.owner[i] != rank_) continue;
-      b_.results[i] = results[i];
-      b_.work[i] = work[i];
-    }
-    ++b_.arrived;
-    b_.cv.notify_all();
-    b_.cv.wait(lock, [&] { return b_.arrived == b_.processes; });
-    results = b_.results;
-    work = b_.work;
-    SpreadBalance bal;
-    bal.ranks.resize(std::size_t(b_.processes));
-    for (std::uint64_t i = 0; i < b_.items; ++i) {
-      RankLoad& l = bal.ranks[std::size_t(b_.owner[i])];
-      ++l.items;
-      l.work += b_.work[i];
-    }
-    return bal;
-  }
-
- private:
-  Board& b_;
-  int rank_;
-};
-
-/// Runs f(exec) as K simulated processes (one thread each), returning each one's result.
-template <class F>
-auto run_spread(int k, F f) {
-  Board board(k);
-  std::vector<decltype(f(Exec{}))> out(static_cast<std::size_t>(k));
-  std::vector<std::thread> procs;
-  for (int r = 0; r < k; ++r) {
-    procs.emplace_back([&, r] {
-      BoardSpread spread(board, r);
-      Exec exec;
-      exec.threads = 1 + r % 2;
-      exec.spread = &spread;
-      out[std::size_t(r)] = f(exec);
-    });
-  }
-  for (auto& p : procs) p.join();
-  return out;
-}
+using test::run_spread;
 
 TEST(Spread, RenderEqualsOneProcessOnEveryProcess) {
   const Scene scene = test::bundled_scene("teardrop", test::image_size(100));
