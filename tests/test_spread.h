@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.h"
 #include "core/exec.h"
 #include "core/spread.h"
 
@@ -108,6 +109,23 @@ auto run_spread(int k, F f) {
   }
   for (auto& p : procs) p.join();
   return out;
+}
+
+/// Runs f(exec) as K simulated processes and counts those in which it threw a SettingError (the
+/// box limits' error, which every process must throw when one process passes the limit).
+template <class F>
+int processes_failing_with_setting_error(int k, F f) {
+  const auto failed = run_spread(k, [&](const Exec& e) {
+    try {
+      f(e);
+    } catch (const SettingError&) {
+      return 1;  // an int: the processes write their results at once (no vector<bool>)
+    }
+    return 0;
+  });
+  int n = 0;
+  for (int x : failed) n += x;
+  return n;
 }
 
 }  // namespace iaa::test

@@ -1759,7 +1759,8 @@ Leaves refine_spread(const Refiner& r, const std::vector<std::pair<Index3, int>>
     const std::size_t count = (res.size() - 1) / sizeof(Leaf);
     const std::size_t at = leaves.size();
     leaves.resize(at + count);
-    std::memcpy(static_cast<void*>(leaves.data() + at), res.data() + 1, count * sizeof(Leaf));
+    if (count > 0)  // never a null data() to memcpy
+      std::memcpy(static_cast<void*>(leaves.data() + at), res.data() + 1, count * sizeof(Leaf));
   }
   return leaves;
 }
@@ -1800,14 +1801,15 @@ template <class T>
 void put_vector(std::string& out, const std::vector<T>& v) {
   static_assert(std::is_trivially_copyable_v<T>);
   put_bytes(out, std::uint64_t(v.size()));
-  out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+  if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
 }
 
 /// Reads back what put_vector() wrote at `pos`, and moves `pos` past it.
 template <class T>
 void take_vector(const std::string& in, std::size_t& pos, std::vector<T>& v) {
   v.resize(take_bytes<std::uint64_t>(in, pos));
-  std::memcpy(static_cast<void*>(v.data()), in.data() + pos, v.size() * sizeof(T));
+  // An empty vector's data() may be null, which memcpy must never be given (UBSan: nonnull).
+  if (!v.empty()) std::memcpy(static_cast<void*>(v.data()), in.data() + pos, v.size() * sizeof(T));
   pos += v.size() * sizeof(T);
 }
 

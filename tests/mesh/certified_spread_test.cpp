@@ -65,15 +65,9 @@ TEST(CertifiedSpread, OverTheBoxLimitFailsOnEveryProcess) {
   s.bounds = scene.bounds;
   s.min_depth = 6;
   s.max_boxes = 3000;
-  const auto failed = run_spread(2, [&](const Exec& e) {
-    try {
-      mesh_certified(*scene.tape, s, e);
-    } catch (const SettingError&) {
-      return 1;  // an int: the processes write their results at once (no vector<bool>)
-    }
-    return 0;
-  });
-  for (int f : failed) EXPECT_EQ(f, 1);
+  EXPECT_EQ(test::processes_failing_with_setting_error(
+                2, [&](const Exec& e) { mesh_certified(*scene.tape, s, e); }),
+            2);
 }
 
 }  // namespace

@@ -86,15 +86,9 @@ TEST(Spread, EnclosureOverTheBoxLimitFailsOnEveryProcess) {
   s.bounds = scene.bounds;
   s.depth = 7;
   s.max_boxes = 500;
-  const auto failed = run_spread(2, [&](const Exec& e) {
-    try {
-      enclose(*scene.tape, s, e);
-    } catch (const SettingError&) {
-      return 1;  // an int: the processes write their results at once (no vector<bool>)
-    }
-    return 0;
-  });
-  for (int f : failed) EXPECT_EQ(f, 1);
+  EXPECT_EQ(test::processes_failing_with_setting_error(
+                2, [&](const Exec& e) { enclose(*scene.tape, s, e); }),
+            2);
 }
 
 }  // namespace
