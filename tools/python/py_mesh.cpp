@@ -59,6 +59,8 @@ meshing::MeshParams mesh_params(int resolution, const pb::dict& options) {
       p.max_depth = value.cast<int>();
     else if (k == "strict")
       p.strict = value.cast<bool>();
+    else if (k == "proof_cache")
+      p.proof_cache = value.cast<bool>();
     else if (k == "depth")
       p.depth = value.cast<int>();
     else if (k == "refine")
@@ -241,7 +243,8 @@ Meshes the scene's surface as `iaa mesh` does (docs/mesh.md).
 
 method: "certified" (isotopic to the surface inside the cells it certifies), "octree" (from the
 guaranteed enclosure), "cgal" (CGAL Mesh_3) or "vtk" (VTK flying edges); resolution: N, comparable
-across methods. More keywords, as the command's flags: min_depth, max_depth, strict (certified);
+across methods. More keywords, as the command's flags: min_depth, max_depth, strict, proof_cache
+(certified; proof_cache=False is --no-proof-cache);
 depth, refine, flat_tolerance (octree); max_boxes (certified, octree); facet_size,
 facet_distance, facet_angle (cgal); grid (vtk). threads, progress: as for render(). Raises
 ValueError with the command's message, also when the mesher finds no surface.)doc");

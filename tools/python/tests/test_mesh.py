@@ -13,6 +13,7 @@ FILE_KEYS = ("mesh_file", "mesh_file_coordinates")
 
 @pytest.mark.parametrize("method, flags, kwargs", [
     ("certified", ("--resolution", "32"), {"resolution": 32}),
+    ("certified", ("--resolution", "32", "--no-proof-cache"), {"resolution": 32, "proof_cache": False}),
     ("octree", ("--resolution", "32", "--refine", "2"), {"resolution": 32, "refine": 2}),
     ("vtk", ("--grid", "24"), {"grid": 24}),
 ])
