@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace iaa {
@@ -78,6 +79,49 @@ T take_bytes(const std::string& in, std::size_t& pos) {
   std::memcpy(&v, in.data() + pos, sizeof v);
   pos += sizeof v;
   return v;
+}
+
+/// Appends the values of an array of trivially copyable values to an item's result, without
+/// their count (put_vector() writes it first; append_rest() reads such an array to the end).
+template <class T, class A>
+void put_values(std::string& out, const std::vector<T, A>& v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  // An empty vector's data() may be null, which memcpy and append must never be given (UBSan).
+  if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+/// Reads `n` values put_values() wrote at `pos` onto the end of `v`, and moves `pos` past them.
+template <class T, class A>
+void take_values(const std::string& in, std::size_t& pos, std::size_t n, std::vector<T, A>& v) {
+  static_assert(std::is_trivially_copyable_v<T>);
+  const std::size_t at = v.size();
+  v.resize(at + n);
+  if (n > 0) std::memcpy(static_cast<void*>(v.data() + at), in.data() + pos, n * sizeof(T));
+  pos += n * sizeof(T);
+}
+
+/// Appends a vector of trivially copyable values to an item's result: its size, then its values.
+template <class T, class A>
+void put_vector(std::string& out, const std::vector<T, A>& v) {
+  put_bytes(out, std::uint64_t(v.size()));
+  put_values(out, v);
+}
+
+/// Reads back what put_vector() wrote at `pos` into `v` (replacing what it held).
+template <class T, class A>
+void take_vector(const std::string& in, std::size_t& pos, std::vector<T, A>& v) {
+  v.clear();
+  take_values(in, pos, std::size_t(take_bytes<std::uint64_t>(in, pos)), v);
+}
+
+/// Appends to `v` the values that fill the rest of `in` from `pos` (put_values() as the result's
+/// last part). False when the rest is not a whole number of values.
+template <class T, class A>
+bool append_rest(const std::string& in, std::size_t pos, std::vector<T, A>& v) {
+  const std::size_t bytes = in.size() - pos;
+  if (bytes % sizeof(T) != 0) return false;
+  take_values(in, pos, bytes / sizeof(T), v);
+  return true;
 }
 
 }  // namespace iaa

@@ -595,7 +595,7 @@ SpreadBalance enclose_spread(Shared& sh, const std::vector<Index>& frontier, int
           put_bytes(res, w.evaluations());
           put_bytes(res, w.corner_evaluations());
           put_bytes(res, w.expansion_signs());
-          res.append(reinterpret_cast<const char*>(cells.data()), cells.size() * sizeof(Cell));
+          put_values(res, cells);
           work[i] = w.evaluations() + w.corner_evaluations();
           phase.advance(1);
         }
@@ -615,12 +615,9 @@ SpreadBalance enclose_spread(Shared& sh, const std::vector<Index>& frontier, int
     evals[i] = take_bytes<std::uint64_t>(results[i], pos);
     corner_evals[i] = take_bytes<std::uint64_t>(results[i], pos);
     exp_signs[i] = take_bytes<std::uint64_t>(results[i], pos);
-    const std::size_t bytes = results[i].size() - pos;
-    IAA_CHECK(bytes % sizeof(Cell) == 0);
-    parts[i].resize(bytes / sizeof(Cell));
-    // A subtree without boxes leaves parts[i] empty, whose data() may be null: memcpy must not
-    // see it even for 0 bytes (UBSan).
-    if (bytes > 0) std::memcpy(parts[i].data(), results[i].data() + pos, bytes);
+    parts[i].clear();
+    const bool whole = append_rest(results[i], pos, parts[i]);
+    IAA_CHECK(whole);
     std::string().swap(results[i]);
   }
   // No process may have seen the limit pass (each counts its own leaves): the total decides.

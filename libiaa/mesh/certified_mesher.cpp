@@ -1727,7 +1727,7 @@ Leaves refine_spread(const Refiner& r, const std::vector<std::pair<Index3, int>>
           }
           work[i] = e.evaluations - e0;
           put_bytes(res, std::uint8_t{0});
-          res.append(reinterpret_cast<const char*>(out.data()), out.size() * sizeof(Leaf));
+          put_values(res, out);
         }
       } catch (...) {
         spread.fail();  // the process's other threads stop too
@@ -1756,11 +1756,8 @@ Leaves refine_spread(const Refiner& r, const std::vector<std::pair<Index3, int>>
       continue;
     }
     const std::string& res = results[next++];
-    const std::size_t count = (res.size() - 1) / sizeof(Leaf);
-    const std::size_t at = leaves.size();
-    leaves.resize(at + count);
-    if (count > 0)  // never a null data() to memcpy
-      std::memcpy(static_cast<void*>(leaves.data() + at), res.data() + 1, count * sizeof(Leaf));
+    const bool whole = append_rest(res, 1, leaves);  // after put_bytes(res, std::uint8_t{0})
+    IAA_CHECK(whole);
   }
   return leaves;
 }
@@ -1795,23 +1792,6 @@ struct Round {
   VertexTable table;
   BigVector<CellOut> outs;  ///< per leaf (empty for empty leaves)
 };
-
-/// Appends a vector of trivially copyable values to an item's result (its size, then its bytes).
-template <class T>
-void put_vector(std::string& out, const std::vector<T>& v) {
-  static_assert(std::is_trivially_copyable_v<T>);
-  put_bytes(out, std::uint64_t(v.size()));
-  if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
-
-/// Reads back what put_vector() wrote at `pos`, and moves `pos` past it.
-template <class T>
-void take_vector(const std::string& in, std::size_t& pos, std::vector<T>& v) {
-  v.resize(take_bytes<std::uint64_t>(in, pos));
-  // An empty vector's data() may be null, which memcpy must never be given (UBSan: nonnull).
-  if (!v.empty()) std::memcpy(static_cast<void*>(v.data()), in.data() + pos, v.size() * sizeof(T));
-  pos += v.size() * sizeof(T);
-}
 
 /// Leaves per item of a shared extraction.
 constexpr std::size_t kExtractItem = 256;
