@@ -1,0 +1,174 @@
+// BatchIntervalEvalK against IntervalEval: every lane's interval must be the same pair of doubles
+// (bit for bit, signs of zeros included) and its partial-domain flag the same, for random
+// expressions over every operation, endpoint-heavy boxes (unbounded, empty, degenerate, touching
+// or straddling 0), every batch size from 1 to K, with the baseline (SSE2) code and, where the
+// processor has it, the AVX2 code.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "expr/eval_batch.h"
+#include "expr/eval_interval.h"
+#include "expr/random_expr.h"
+
+namespace iaa {
+namespace {
+
+using testing::RandomExpr;
+
+/// A box side that the interval rules treat specially now and then: unbounded, empty, a point,
+/// a signed zero, a side ending at 0; otherwise the generator's own sides.
+Interval odd_side(RandomExpr& r, const Interval& usual) {
+  const double inf = Interval::kInf;
+  switch (r.pick(14)) {
+    case 0:
+      return Interval(-inf, r.uniform(-2, 2));
+    case 1:
+      return Interval(r.uniform(-2, 2), inf);
+    case 2:
+      return Interval::whole();
+    case 3:
+      return Interval::empty();
+    case 4:
+      return Interval(-0.0, 0.0);
+    case 5:
+      return Interval(-0.0);
+    case 6:
+      return Interval(0.0, r.uniform(0, 3));
+    case 7:
+      return Interval(r.uniform(-3, 0), -0.0);
+    case 8:
+      return Interval(r.uniform(-3, 3));
+    case 9:
+      return Interval(1e300, 1e308);
+    default:
+      return usual;
+  }
+}
+
+IBox random_box(RandomExpr& r) {
+  IBox b = r.box();
+  if (r.pick(3) == 0) {
+    for (int a = 0; a < 3; ++a) b[a] = odd_side(r, b[a]);
+  }
+  return b;
+}
+
+std::uint64_t bits(double v) {
+  return std::bit_cast<std::uint64_t>(v);
+}
+
+/// Evaluates `boxes` in one batch and each box with IntervalEval; reports the first difference.
+template <int K>
+::testing::AssertionResult same_as_scalar(BatchIntervalEvalK<K>& be, IntervalEval& ie,
+                                          const std::vector<IBox>& boxes) {
+  const int n = static_cast<int>(boxes.size());
+  Interval out[K];
+  {
+    RoundingScope scope;
+    be.eval(boxes.data(), n, out);
+  }
+  for (int j = 0; j < n; ++j) {
+    const Interval want = ie.eval(boxes[static_cast<std::size_t>(j)]);
+    const bool want_partial = ie.partial_domain();
+    if (bits(out[j].lo()) != bits(want.lo()) || bits(out[j].hi()) != bits(want.hi()) ||
+        be.partial_domain(j) != want_partial) {
+      const IBox& b = boxes[static_cast<std::size_t>(j)];
+      char msg[512];
+      std::snprintf(msg, sizeof msg,
+                    "lane %d of %d (K=%d, %s): batch [%a, %a] partial %d, scalar [%a, %a] "
+                    "partial %d; box [%a,%a]x[%a,%a]x[%a,%a]",
+                    j, n, K, be.isa(), out[j].lo(), out[j].hi(), int(be.partial_domain(j)),
+                    want.lo(), want.hi(), int(want_partial), b.x.lo(), b.x.hi(), b.y.lo(), b.y.hi(),
+                    b.z.lo(), b.z.hi());
+      return ::testing::AssertionFailure() << msg << "\n" << be.tape().to_text();
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+/// Every batch size 1..K on fresh random boxes, with both instruction sets.
+template <int K>
+::testing::AssertionResult check_tape(const Tape& tape, RandomExpr& r, int rounds) {
+  BatchIntervalEvalK<K> be(tape);
+  IntervalEval ie(tape);
+  for (int baseline = 0; baseline < 2; ++baseline) {
+    be.use_baseline(baseline != 0);
+    for (int round = 0; round < rounds; ++round) {
+      for (int n = 1; n <= K; ++n) {
+        std::vector<IBox> boxes;
+        for (int j = 0; j < n; ++j) boxes.push_back(random_box(r));
+        auto res = same_as_scalar<K>(be, ie, boxes);
+        if (!res) return res;
+      }
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// One expression per operation (scale and divc from products and quotients by constants, sincos
+// from sin and cos of one argument), each on endpoint-heavy boxes.
+TEST(BatchIntervalEval, EveryOperationMatchesTheScalarEvaluator) {
+  const char* kExprs[] = {
+      "x + y",   "x - y",         "x * y",  "2.5 * x",   "x * (-3)",  "x / y",
+      "x / 3",   "x / (-0.7)",    "-x",     "x^0",       "x^1",       "x^2",
+      "x^3",     "x^4",           "x^7",    "x^8",       "x^23",      "square(x)",
+      "sqrt(x)", "exp(x)",        "log(x)", "sin(x)",    "cos(x)",    "sin(x) * cos(x)",
+      "tan(x)",  "atan(x)",       "abs(x)", "min(x, y)", "max(x, y)", "pow(x, y)",
+      "x^0.5",   "x * x * y - z", "1 / x",  "x^(-2)",    "x",         "7",
+  };
+  std::set<Op> seen;
+  RandomExpr r(16);
+  for (const char* e : kExprs) {
+    const Tape tape = Tape::parse(e);
+    for (int i = tape.first_op(); i < tape.size(); ++i) seen.insert(tape.instrs()[i].op);
+    EXPECT_TRUE(check_tape<8>(tape, r, 40)) << e;
+    EXPECT_TRUE(check_tape<4>(tape, r, 10)) << e;
+  }
+  // Every operation of IAA_OPCODES that an instruction can be.
+  for (int op = static_cast<int>(Op::kAdd); op < kOpCount; ++op) {
+    EXPECT_TRUE(seen.count(static_cast<Op>(op))) << "not covered: " << info(Op(op)).text;
+  }
+}
+
+// Random expressions over every operation of the language, every batch size, K = 2, 4, 8, 16.
+TEST(BatchIntervalEval, RandomExpressionsMatchTheScalarEvaluator) {
+  const int scale = testing::property_scale();
+  RandomExpr r(1601u + static_cast<unsigned>(scale));
+  int tapes = 0;
+  while (tapes < 300 * scale) {
+    const std::string text = r.make(5);
+    if (!RandomExpr::parses(text)) continue;
+    const Tape tape = Tape::parse(text);
+    ++tapes;
+    ASSERT_TRUE(check_tape<8>(tape, r, 2));
+    if (tapes % 4 == 0) {
+      ASSERT_TRUE(check_tape<2>(tape, r, 1));
+      ASSERT_TRUE(check_tape<4>(tape, r, 1));
+      ASSERT_TRUE(check_tape<16>(tape, r, 1));
+    }
+  }
+}
+
+// Works without a RoundingScope of the caller's, as IntervalEval does.
+TEST(BatchIntervalEval, OpensItsOwnRoundingScope) {
+  const Tape tape = Tape::parse("x^3 - y * z + 0.1");
+  BatchIntervalEval be(tape);
+  IntervalEval ie(tape);
+  const IBox boxes[2] = {IBox(Interval(0.1, 0.3), Interval(-1, 2), Interval(0.7, 0.71)),
+                         IBox(Interval(-3, -2), Interval(0.5), Interval(-1, 1))};
+  Interval out[2];
+  be.eval(boxes, 2, out);
+  for (int j = 0; j < 2; ++j) {
+    const Interval want = ie.eval(boxes[j]);
+    EXPECT_EQ(bits(out[j].lo()), bits(want.lo()));
+    EXPECT_EQ(bits(out[j].hi()), bits(want.hi()));
+  }
+}
+
+}  // namespace
+}  // namespace iaa
