@@ -18,11 +18,13 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <type_traits>
 
 #include "core/error.h"
 #include "core/spread.h"
+#include "expr/eval_batch.h"
 #include "expr/eval_interval.h"
 #include "expr/specialize.h"
 
@@ -79,6 +81,12 @@ struct Expansion {
     }
     return r;
   }
+};
+
+/// F over a cell evaluated ahead of its visit, and whether it met a partial domain.
+struct Evaluated {
+  Interval f;
+  bool partial = false;
 };
 
 /// The split level is the first level with at least kMinSubtrees candidate cells, and at least
@@ -214,7 +222,12 @@ struct Shared {
 /// Depth-first enclosure of one subtree; owns its evaluators, point cache and output.
 class SubtreeWorker {
  public:
-  explicit SubtreeWorker(Shared& sh) : sh_(sh), se_(*sh.tape) {}
+  explicit SubtreeWorker(Shared& sh) : sh_(sh), se_(*sh.tape) {
+    // The batch evaluates with the whole tape, and makes no regions: where the tape has min or
+    // max, the specializing evaluator's regions (and with them the signs of zero gradient
+    // bounds, specialize.h) would depend on it, so it is used only where there are none.
+    if (!sh.tape->has_min_max()) batch_.emplace(*sh.tape);
+  }
 
   /// Starts the subtree of cell (idx, d): empties the corner cache, the leaves and the counts, so
   /// that one worker (and its evaluators) serves many subtrees with the same results as fresh ones.
@@ -233,8 +246,10 @@ class SubtreeWorker {
   /// Encloses the subtree of cell (idx, d). `parent`, when given, is the mean-value expansion of
   /// f over the parent cell, on which f is defined everywhere (no partial domain). Its centre is a
   /// corner of this cell and its gradient encloses the gradient over this cell, so it bounds f here
-  /// with no evaluation at all, about as tightly as this cell's own expansion would.
-  void visit(const Index& idx, int d, const Expansion* parent) {
+  /// with no evaluation at all, about as tightly as this cell's own expansion would. `pre`, when
+  /// given, is F over this cell and its partial-domain flag, evaluated already (with the cell's
+  /// siblings, by the batched evaluator: the same interval as se_.eval gives).
+  void visit(const Index& idx, int d, const Expansion* parent, const Evaluated* pre = nullptr) {
     if (sh_.over_limit.load(std::memory_order_relaxed) ||
         sh_.cancelled.load(std::memory_order_relaxed)) {
       return;
@@ -258,8 +273,8 @@ class SubtreeWorker {
     const auto own = [&] {
       ++evaluations_;
       if (!sh_.centered_form) {
-        f = se_.eval(box);
-        partial = se_.partial_domain();
+        f = pre ? pre->f : se_.eval(box);
+        partial = pre ? pre->partial : se_.partial_domain();
         return;
       }
       // Where most evaluated cells turn out empty (a parent expansion too weak to reject them,
@@ -269,9 +284,10 @@ class SubtreeWorker {
       // so the cells kept and their bounds do not depend on the choice, only the time does. The
       // choice is made from this subtree's counts alone.
       ++own_calls_;
-      if (own_calls_ > 32 && 3 * own_rejects_ > 2 * own_calls_) {
-        const Interval v = se_.eval(box);
-        if (!se_.partial_domain() && !intersect(f, v).contains_zero()) {
+      if (values_first()) {
+        const Interval v = pre ? pre->f : se_.eval(box);
+        const bool v_partial = pre ? pre->partial : se_.partial_domain();
+        if (!v_partial && !intersect(f, v).contains_zero()) {
           f = intersect(f, v);
           partial = false;
           ++own_rejects_;
@@ -346,12 +362,38 @@ class SubtreeWorker {
     if (++pending_ == 256) flush();
   }
 
+  /// True when own() tries the natural interval value alone before the gradient (see there).
+  bool values_first() const { return own_calls_ > 32 && 3 * own_rejects_ > 2 * own_calls_; }
+
   void split(const Index& idx, int d, const IBox& box, Expansion* g) {
     if (g) g->prepare(box);
-    for (std::uint32_t c = 0; c < 8; ++c) {
-      visit({2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)}, d + 1,
-            g);
+    const auto child = [&](std::uint32_t c) {
+      return Index{2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)};
+    };
+    // Where the children's own evaluations will take the natural interval value (no mean-value
+    // form, or own() trying values first), the children that the parent's expansion does not
+    // reject are evaluated together, in one pass of the batched evaluator. A child whose own()
+    // then takes the gradient instead (the counts changed on the way) leaves its value unused;
+    // the values, the counts and so the leaves are the same as with one evaluation per child.
+    Evaluated pre[8];
+    bool have_pre = false;
+    if (batch_ && (!sh_.centered_form || values_first())) {
+      IBox boxes[8];
+      std::uint32_t which[8];
+      int n = 0;
+      for (std::uint32_t c = 0; c < 8; ++c) {
+        if (g && !g->child_bound(c).contains_zero()) continue;
+        which[n] = c;
+        boxes[n++] = cell_ibox(child(c), d + 1);
+      }
+      if (n > 0) {
+        Interval v[8];
+        batch_->eval(boxes, n, v);
+        for (int j = 0; j < n; ++j) pre[which[j]] = {v[j], batch_->partial_domain(j)};
+        have_pre = true;
+      }
     }
+    for (std::uint32_t c = 0; c < 8; ++c) visit(child(c), d + 1, g, have_pre ? &pre[c] : nullptr);
   }
 
   /// f on the degenerate box of a point: its sign, when certain, is proved. Returns whole() where
@@ -460,6 +502,7 @@ class SubtreeWorker {
 
   Shared& sh_;
   SpecializingEval se_;  ///< cells inside a cell that decided a min/max run the pruned tape
+  std::optional<BatchIntervalEval> batch_;  ///< a cell's children at once (tapes without min/max)
   CornerCache cache_;
   std::vector<Cell> cells_;
   std::uint64_t evaluations_ = 0;
@@ -650,22 +693,34 @@ Enclosure enclose(const Tape& tape, const EncloseSettings& settings, const Exec&
   int level = 0;
   {
     RoundingScope scope;
-    IntervalEval ie(tape);
+    // Eight cells per pass of the batched evaluator: the same intervals as IntervalEval's.
+    BatchIntervalEval be(tape);
+    constexpr int kLanes = BatchIntervalEval::kLanes;
     while (level < sh.depth && !frontier.empty() &&
            (frontier.size() < kMinSubtrees ||
             (level < sh.depth - kMaxSubtreeDepth && frontier.size() < kMaxSubtrees))) {
       std::vector<Index> next;
-      for (const Index& idx : frontier) {
-        IBox b;
-        for (int a = 0; a < 3; ++a) {
-          b[a] = Interval(grid_coord_up(sh.bounds.lo[a], sh.bounds.hi[a], idx[a], level),
-                          grid_coord_up(sh.bounds.lo[a], sh.bounds.hi[a], idx[a] + 1ull, level));
+      for (std::size_t i0 = 0; i0 < frontier.size(); i0 += kLanes) {
+        const int m = static_cast<int>(std::min<std::size_t>(kLanes, frontier.size() - i0));
+        IBox boxes[kLanes];
+        for (int j = 0; j < m; ++j) {
+          const Index& idx = frontier[i0 + static_cast<std::size_t>(j)];
+          for (int a = 0; a < 3; ++a) {
+            boxes[j][a] =
+                Interval(grid_coord_up(sh.bounds.lo[a], sh.bounds.hi[a], idx[a], level),
+                         grid_coord_up(sh.bounds.lo[a], sh.bounds.hi[a], idx[a] + 1ull, level));
+          }
         }
-        ++out.evaluations;
-        if (!ie.eval(b).contains_zero()) continue;
-        for (std::uint32_t c = 0; c < 8; ++c) {
-          next.push_back(
-              {2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)});
+        Interval v[kLanes];
+        be.eval(boxes, m, v);
+        for (int j = 0; j < m; ++j) {
+          const Index& idx = frontier[i0 + static_cast<std::size_t>(j)];
+          ++out.evaluations;
+          if (!v[j].contains_zero()) continue;
+          for (std::uint32_t c = 0; c < 8; ++c) {
+            next.push_back(
+                {2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)});
+          }
         }
       }
       frontier.swap(next);

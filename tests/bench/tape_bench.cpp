@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "expr/eval_batch.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -60,6 +61,29 @@ void BM_IntervalEval(benchmark::State& state) {
   run_tape<IntervalEval>(state, [](IntervalEval& e, const Vec3& p) { return e.eval(box_at(p)); });
 }
 BENCHMARK(BM_IntervalEval);
+
+// The batched interval evaluator on the same boxes, K per pass; ns per operation per box.
+template <int K>
+void BM_BatchIntervalEval(benchmark::State& state) {
+  const Tape& t = *chubs().tape;
+  BatchIntervalEvalK<K> e(t);
+  std::vector<IBox> boxes;
+  for (const Vec3& p : points(chubs().bounds, 1024)) boxes.push_back(box_at(p));
+  RoundingScope scope;
+  Interval out[K];
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < boxes.size(); i += K) {
+      e.eval(boxes.data() + i, K, out);
+      benchmark::DoNotOptimize(out);
+    }
+  }
+  state.counters["ns/op"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * 1024 * t.op_count(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_BatchIntervalEval<4>);
+BENCHMARK(BM_BatchIntervalEval<8>);
+BENCHMARK(BM_BatchIntervalEval<16>);
 
 void BM_IntervalGradEval(benchmark::State& state) {
   run_tape<IntervalGradEval>(state,

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstdint>
 #include <random>
 
 #include "core/error.h"
@@ -216,6 +218,33 @@ TEST(Enclose, SameResultForAnyThreadCount) {
       }
       EXPECT_EQ(a.evaluations, b.evaluations);
       EXPECT_EQ(a.corner_evaluations, b.corner_evaluations);
+    }
+  }
+}
+
+// Without the mean-value form, a leaf's f is the natural interval value over its box, which the
+// octree takes from the batched evaluator (a cell's children in one pass, eval_batch.h): the same
+// doubles as IntervalEval's, bit for bit.
+TEST(Enclose, NaturalIntervalLeavesHoldTheIntervalEvalValue) {
+  for (const char* name : {"chubs", "teardrop", "steiner_roman", "blobby", "gyroid"}) {
+    const auto& ts = test_surface(name);
+    const Tape tape = Tape::parse(ts.expr);
+    EncloseSettings s;
+    s.bounds = ts.bounds;
+    s.depth = 5;
+    s.refine_possible = 1;
+    s.centered_form = false;
+    Exec exec;
+    exec.threads = 2;
+    const Enclosure e = enclose(tape, s, exec);
+    ASSERT_FALSE(e.cells.empty()) << name;
+    IntervalEval ie(tape);
+    for (const Cell& c : e.cells) {
+      const Interval want = ie.eval(e.box(c));
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(c.f.lo()), std::bit_cast<std::uint64_t>(want.lo()))
+          << name;
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(c.f.hi()), std::bit_cast<std::uint64_t>(want.hi()))
+          << name;
     }
   }
 }
