@@ -25,7 +25,6 @@
 #include "core/error.h"
 #include "core/spread.h"
 #include "expr/eval_batch.h"
-#include "expr/eval_interval.h"
 #include "expr/specialize.h"
 
 namespace iaa {
