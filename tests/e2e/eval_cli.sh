@@ -57,5 +57,6 @@ check help 0 "Examples:" -- "$iaa" eval --help
 check bench-tape-target 0 "target: interval within 4x" -- "$iaa" bench tape --points 100 --runs 1 \
   --json "$tmp/tape.json"
 check bench-tape-json 0 '"within_target"' -- cat "$tmp/tape.json"
+check bench-tape-batch-json 0 '"batch_within_target"' -- cat "$tmp/tape.json"
 check no-command nonzero "subcommand is required" -- "$iaa"
 exit $fail

@@ -270,8 +270,9 @@ void run(const Options& o) {
   }
   std::printf(
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"
-      "'batch %d': the batched interval evaluator (%s), %d boxes per pass, ns per operation per\n"
-      "box; targets: interval within %gx, batch within %gx of point evaluation per operation\n%s\n",
+      "'batch %d': the batched interval evaluator (%s), %d boxes per pass, ns per operation per "
+      "box\n"
+      "target: interval within %gx of point evaluation per operation, batch within %gx\n%s\n",
       o.runs, o.points, o.lanes, out.empty() ? "" : out[0]["batch_isa"].get<std::string>().c_str(),
       o.lanes, kIntervalOverPointTarget, kBatchOverPointTarget, kPeakNote);
   if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
