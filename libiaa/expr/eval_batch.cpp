@@ -1,12 +1,13 @@
-// Batched interval evaluation (eval_batch.h). Each fast rule below is a loop over the K lanes of
-// a slot that computes the bounds with the expressions of core/interval.h, in the same order, so
-// that each lane rounds exactly as the scalar operation does; it also computes, per lane, whether
-// the scalar operation would have left its fast path there (an empty or unbounded argument, a NaN
-// bound), and such lanes, rare, are recomputed with the scalar rule. The loops have no branches
-// and no calls, so GCC vectorizes them: the run-time choice between the baseline build (SSE2)
-// and an AVX2 build of the same loop is the only difference between the two, and neither uses
-// FMA (no contraction may change a bound). -frounding-math (iaa_options) keeps the bound
-// expressions as written, as it does in interval.h.
+// Batched interval evaluation (eval_batch.h). Each fast rule below works on the K lanes of a slot,
+// W at a time in one vector of GCC's and Clang's vector extension, and computes the bounds with
+// the expressions of core/interval.h in the same order, so that each lane rounds exactly as the
+// scalar operation does. It also computes, per lane, whether the scalar operation would have left
+// its fast path there (an empty or unbounded argument, a NaN bound), and for such an operation,
+// rare, the lanes in use are recomputed with the scalar rule. The same loop is compiled twice:
+// for the baseline (SSE2, W = 2) and, chosen at run time, for AVX2 (W = 4); neither uses FMA (no
+// contraction may change a bound). -frounding-math (iaa_options) keeps the bound expressions as
+// written, as it does in interval.h. (Plain loops over the lanes left to the auto-vectorizer
+// stayed mostly scalar: docs/eval.md, "The batched interval evaluator".)
 #include "expr/eval_batch.h"
 
 #include <algorithm>

@@ -3,9 +3,9 @@
 // The scalar tape loop (eval_loop.h) spends most of its time on the dispatch of each operation and
 // on the chain of dependent operations, not on arithmetic (docs/eval.md, "How fast the evaluators
 // are"). Here each slot holds K lower and K upper bounds (struct of arrays), each operation is
-// dispatched once for all K boxes, and its rule is a loop over the lanes that the compiler turns
-// into SIMD instructions (SSE2 on the baseline x86-64; an AVX2 copy of the loop is chosen at run
-// time where the processor has it; never FMA, which would change bounds).
+// dispatched once for all K boxes, and its rule runs over the lanes in SIMD vectors (SSE2 on the
+// baseline x86-64; an AVX2 copy of the loop is chosen at run time where the processor has it;
+// never FMA, which would change bounds).
 //
 // Same results: every lane's interval is the same double pair as IntervalEval gives for that box,
 // the signs of zeros included, and its partial-domain flag is the same. The fast rules (add, sub,
