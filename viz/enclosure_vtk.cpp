@@ -248,8 +248,11 @@ void fill_arrays(const Enclosure& enc, int max_depth, std::vector<ChunkPoints>& 
         ty[i] = VTK_VOXEL;
         de[i] = c.depth;
         cl[i] = static_cast<signed char>(c.cls);
-        lo[i] = c.f.lo();
-        hi[i] = c.f.hi();
+        // A zero bound is written as +0: VTK computes each array's range (written in the
+        // header) over threads, and of a -0 and a +0 the one it keeps depends on their order,
+        // so a file with both would differ from run to run in its RangeMin/RangeMax.
+        lo[i] = c.f.lo() == 0.0 ? 0.0 : c.f.lo();
+        hi[i] = c.f.hi() == 0.0 ? 0.0 : c.f.hi();
         for (int a = 0; a < 3; ++a) ix[3 * i + a] = c.index[a];
       }
       ChunkPoints().keys.swap(part.keys);
