@@ -824,10 +824,20 @@ class Refiner {
   static constexpr double kTightenPays = 0.75;
   bool tighten(Evaluators& e, const Index3& at, int depth, IGrad& g, Children& kids) const {
     const std::uint32_t h = grid_.size(depth) / 2;
+    // The grid lines of the children, 3 per axis: the same doubles as grid_.box of each child.
+    double line[3][3];
+    for (int a = 0; a < 3; ++a) {
+      for (std::uint32_t j = 0; j < 3; ++j) line[a][j] = grid_.coord(a, at[std::size_t(a)] + j * h);
+    }
     IGrad hull_g;
     for (std::size_t k = 0; k < 8; ++k) {
       ++e.evaluations;
-      kids.g[k] = e.g.eval(IBox(grid_.box(child(at, depth, int(k)), h)));
+      IBox box;
+      for (int a = 0; a < 3; ++a) {
+        const std::size_t j = (k >> a) & 1u;
+        box[a] = Interval(line[a][j], line[a][j + 1]);
+      }
+      kids.g[k] = e.g.eval(box);
       if (e.g.partial_domain()) return false;
       if (k == 0) {
         hull_g = kids.g[0];
@@ -1319,18 +1329,27 @@ class Extractor {
       for (int k = 0; k < 4; ++k) piece(a, side, w, u0 + (k & 1) * h, v0 + (k >> 1) * h, h);
       return;
     }
-    // The piece's boundary, counter-clockwise seen from outside the leaf.
+    // The piece's boundary, counter-clockwise seen from outside the leaf, with the sign at
+    // each point: a corner of the whole face is a leaf corner, whose sign quiet() read.
     cycle_.clear();
+    cycle_signs_.clear();
     const std::array<std::array<std::uint32_t, 2>, 4> c = {
         {{u0, v0}, {u0 + s, v0}, {u0 + s, v0 + s}, {u0, v0 + s}}};
+    constexpr int kDu[4] = {0, 1, 1, 0}, kDv[4] = {0, 0, 1, 1};
     for (int i = 0; i < 4; ++i) {
       const auto& p = c[std::size_t(i)];
       const auto& q = c[std::size_t((i + 1) % 4)];
-      cycle_.push_back(key_at(a, w, p[0], p[1]));
+      const Key k = key_at(a, w, p[0], p[1]);
+      cycle_.push_back(k);
+      cycle_signs_.push_back(
+          s == size_ ? corner_signs_[std::size_t(face_corner(a, side, kDu[i], kDv[i]))] : sign(k));
       // A side of the whole face: looked up only where one of its ends has a finer leaf.
       if (s < size_ || side_finer_[std::size_t(i)]) side_points(a, w, p, q, s);
     }
-    if (side == 0) std::reverse(cycle_.begin(), cycle_.end());
+    if (side == 0) {
+      std::reverse(cycle_.begin(), cycle_.end());
+      std::reverse(cycle_signs_.begin(), cycle_signs_.end());
+    }
     pair_crossings(a, w, u0, v0, s);
   }
 
@@ -1340,9 +1359,13 @@ class Extractor {
     if (len < 2) return;
     const std::array<std::uint32_t, 2> m = {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2};
     const Key km = key_at(a, w, m[0], m[1]);
-    if (!face_finer_ || !table_.contains(km)) return;
+    if (!face_finer_) return;
+    const VertexTable::Slot* slot = table_.find(km);
+    if (!slot) return;
     side_points(a, w, p, m, len / 2);
     cycle_.push_back(km);
+    // Strictly inside a side of a piece: not a corner of the leaf.
+    cycle_signs_.push_back(table_sign(slot));
     side_points(a, w, m, q, len / 2);
   }
 
@@ -1372,7 +1395,7 @@ class Extractor {
     for (std::size_t i = 0; i < n; ++i) {
       const Key p = cycle_[i], q = cycle_[(i + 1) % n];
       check_inner_edge(p, q);
-      const std::int8_t sp = sign(p), sq = sign(q);
+      const std::int8_t sp = cycle_signs_[i], sq = cycle_signs_[(i + 1) % n];
       if (sp == sq) continue;
       xs.emplace_back(add_crossing(p, q), sp < 0);
     }
@@ -1659,6 +1682,7 @@ class Extractor {
   bool bent_ = false;  ///< a fan of this leaf found the surface bending (bent())
   CellOut out_;
   std::vector<Key> cycle_;
+  std::vector<std::int8_t> cycle_signs_;  ///< the sign at each point of cycle_
   std::vector<Crossing> crossings_;
   std::vector<std::pair<Key, Key>> segments_;
   PlacedCrossings placed_;  ///< crossings placed by this extractor (one range of leaves)
