@@ -29,6 +29,7 @@
 #include "core/error.h"
 #include "core/spread.h"
 #include "enclose/octree.h"
+#include "expr/eval_batch.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -165,12 +166,15 @@ class ProofCache {
 
 /// Per-thread evaluators.
 struct Evaluators {
-  Evaluators(const Tape& t, bool proof_cache) : proofs(proof_cache), f(t), g(t), p(t), pg(t) {
+  Evaluators(const Tape& t, bool proof_cache)
+      : proofs(proof_cache), f(t), batch(t), g(t), p(t), pg(t) {
     partials.reserve(6);  // the evaluators keep their addresses
     for (int wanted = 1; wanted < 7; ++wanted) partials.emplace_back(t, detail::VarMask(wanted));
   }
   ProofCache proofs;
   IntervalEval f;
+  /// The 8 children of a split cell: their values, and f at their centres (Refiner::refine()).
+  BatchIntervalEval batch;
   IntervalGradEval g;
   /// For faces and edges: index wanted - 1 computes only the partials along the axes in
   /// `wanted` (the axes a face or an edge extends along, the only ones their proofs read).
@@ -603,6 +607,16 @@ struct Subtree {
   bool tighten_first = false;  ///< Refiner::refine()'s `tighten_first`
 };
 
+/// What a split cell evaluated for one of its children in a batch of 8 (Refiner::refine()): the
+/// bit-for-bit results classify() would get from its own evaluations, counted when it uses them.
+struct ChildValues {
+  Interval f;  ///< f over the child's box
+  bool f_partial = false;
+  bool has_centre = false;  ///< f at the child's centre too
+  Interval centre;
+  bool centre_partial = false;
+};
+
 /// Phase 1: refines one cell into leaves (depth-first order).
 class Refiner {
  public:
@@ -614,18 +628,20 @@ class Refiner {
   /// trouble; `own`: the cell's own, if its parent evaluated it (Children); `tighten_first`:
   /// the parent's tighten() paid (Children::pays), so the cell tries it first (classify()).
   void refine(Evaluators& e, const Index3& at, int depth, Leaves& out,
-              const IGrad* parent = nullptr, const IGrad* own = nullptr,
-              bool tighten_first = false) const {
+              const IGrad* parent = nullptr, const IGrad* own = nullptr, bool tighten_first = false,
+              const ChildValues* values = nullptr) const {
     IGrad g;
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids)) {
+            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
       return emit(e, out, *l);
     }
+    std::array<ChildValues, 8> v;
+    evaluate_children(e, at, depth, smooth, v);
     for (std::size_t k = 0; k < 8; ++k) {
       refine(e, child(at, depth, int(k)), depth + 1, out, smooth ? &g : nullptr,
-             kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays);
+             kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays, &v[k]);
     }
   }
 
@@ -707,6 +723,43 @@ class Refiner {
   }
 
  private:
+  /// The first evaluations of classify() for the 8 children of a split cell, in two batches:
+  /// f over each child's box, and, where the children get the cell's gradient (`smooth`) for
+  /// their mean-value form, f at each centre. A child whose value decides before its centre
+  /// does leaves that unused (and uncounted), which the batch costs less than.
+  void evaluate_children(Evaluators& e, const Index3& at, int depth, bool smooth,
+                         std::array<ChildValues, 8>& v) const {
+    const std::uint32_t h = grid_.size(depth) / 2;
+    double line[3][3];
+    for (int a = 0; a < 3; ++a) {
+      for (std::uint32_t j = 0; j < 3; ++j) line[a][j] = grid_.coord(a, at[std::size_t(a)] + j * h);
+    }
+    std::array<IBox, 8> boxes;
+    std::array<Interval, 8> out;
+    for (std::size_t k = 0; k < 8; ++k) {
+      for (int a = 0; a < 3; ++a) {
+        const std::size_t j = (k >> a) & 1u;
+        boxes[k][a] = Interval(line[a][j], line[a][j + 1]);
+      }
+    }
+    e.batch.eval(boxes.data(), 8, out.data());
+    for (std::size_t k = 0; k < 8; ++k) {
+      v[k].f = out[k];
+      v[k].f_partial = e.batch.partial_domain(int(k));
+    }
+    if (!smooth) return;
+    std::array<IBox, 8> points;
+    for (std::size_t k = 0; k < 8; ++k) {
+      for (int a = 0; a < 3; ++a) points[k][a] = Interval(centre(boxes[k], a));
+    }
+    e.batch.eval(points.data(), 8, out.data());
+    for (std::size_t k = 0; k < 8; ++k) {
+      v[k].has_centre = true;
+      v[k].centre = out[k];
+      v[k].centre_partial = e.batch.partial_domain(int(k));
+    }
+  }
+
   Index3 child(const Index3& at, int depth, int k) const {
     const std::uint32_t h = grid_.size(depth) / 2;
     return {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h};
@@ -729,12 +782,12 @@ class Refiner {
   /// when they were evaluated (tighten()), for the children to reuse.
   std::optional<Leaf> classify(Evaluators& e, const Index3& at, int depth, const IGrad* parent,
                                const IGrad* own, bool tighten_first, IGrad& g, bool& smooth,
-                               Children& kids) const {
+                               Children& kids, const ChildValues* values = nullptr) const {
     const std::uint32_t s = grid_.size(depth);
     const Box3 b = grid_.box(at, s);
     ++e.evaluations;
-    const Interval f = e.f.eval(IBox(b));
-    const bool defined = !e.f.partial_domain();
+    const Interval f = values ? values->f : e.f.eval(IBox(b));
+    const bool defined = !(values ? values->f_partial : e.f.partial_domain());
     if (zero_free(f) || f.is_empty()) {
       const std::int8_t sign = !defined || f.is_empty() ? 0 : (f.lo() > 0.0 ? 1 : -1);
       return Leaf{at, std::uint8_t(depth), Kind::kEmpty, sign};
@@ -745,7 +798,12 @@ class Refiner {
     // evaluated.
     std::optional<Interval> fc;
     if (parent && defined) {
-      fc = centre_value(e, IBox(b));
+      if (values && values->has_centre) {
+        ++e.evaluations;
+        if (!values->centre_partial) fc = values->centre;
+      } else {
+        fc = centre_value(e, IBox(b));
+      }
       if (fc) {
         const Interval wide = expand(IBox(b), *fc, parent->g);
         if (zero_free(wide)) return empty(at, depth, wide);
@@ -1121,14 +1179,35 @@ void evaluate_signs(VertexTable& t, const Grid& grid, ThreadEvaluators& evals, c
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, t.slots.size(), 4096), [&](auto r) {
       RoundingScope scope;
-      auto& ep = evals.local();
+      Evaluators& e = *evals.local();
+      // point_sign() of each point, 8 points to a batch (the same intervals).
+      constexpr int kLanes = BatchIntervalEval::kLanes;
+      std::array<VertexTable::Slot*, kLanes> todo;
+      std::array<IBox, kLanes> points;
+      std::array<Interval, kLanes> values;
+      int n = 0;
+      auto flush = [&] {
+        e.batch.eval(points.data(), n, values.data());
+        e.evaluations += std::uint64_t(n);
+        for (int j = 0; j < n; ++j) {
+          const Interval& v = values[std::size_t(j)];
+          std::int8_t s = 0;
+          if (!e.batch.partial_domain(j) && !v.is_empty())
+            s = v.lo() > 0.0 ? 1 : (v.hi() <= 0.0 ? -1 : 0);
+          todo[std::size_t(j)]->sign = s == 0 ? -1 : s;
+          todo[std::size_t(j)]->uncertain = s == 0;
+        }
+        n = 0;
+      };
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
         VertexTable::Slot& v = t.slots[i];
         if (v.key == VertexTable::kNone || v.uncertain != 2) continue;
-        const std::int8_t s = point_sign(*ep, grid.point(key_point(v.key)));
-        v.sign = s == 0 ? -1 : s;
-        v.uncertain = s == 0;
+        const Vec3 p = grid.point(key_point(v.key));
+        todo[std::size_t(n)] = &v;
+        points[std::size_t(n)] = IBox(Interval(p.x), Interval(p.y), Interval(p.z));
+        if (++n == kLanes) flush();
       }
+      if (n > 0) flush();
     });
   });
 }
