@@ -22,8 +22,9 @@ namespace iaa {
 ///
 /// Where the natural enclosure of narrow depth pieces (or of slices) keeps 0 at least 7 times
 /// in 8, those are evaluated with the gradient at once (gradient_first()): the value part of that
-/// evaluation is the same natural enclosure, so a plain evaluation is saved. These counts start
-/// afresh in every unit. docs/render.md gives the measurements behind the constants.
+/// evaluation is the same natural enclosure, so a plain evaluation is saved. A unit inherits
+/// these counts too (over at most kTrial). docs/render.md gives the measurements behind the
+/// constants.
 struct MeanValueBudget {
   static constexpr int kTrial = 8;
   static constexpr int kRate = 8;
@@ -45,7 +46,10 @@ struct MeanValueBudget {
     natural[k] += excluded;
   }
   /// The budget a unit of work inside this one starts with: this one's rate of hits over at most
-  /// kTrial - kFresh tries, so that a failed record still leaves kFresh free tries.
+  /// kTrial - kFresh tries, so that a failed record still leaves kFresh free tries; and its
+  /// record of natural enclosures over at most kTrial of them, so that a unit inside a block
+  /// whose narrow pieces (or slices) the natural enclosure hardly ever excluded takes their
+  /// gradient at once (a pixel searches only a few narrow pieces, too few to learn it itself).
   MeanValueBudget inherited() const {
     MeanValueBudget b;
     b.tries = std::min(tries, kTrial - kFresh);
@@ -53,6 +57,15 @@ struct MeanValueBudget {
       // The same rate of hits, rounded so that a record that allows tries still does.
       const int scaled = hits * b.tries;
       b.hits = hits * kRate >= tries ? (scaled + tries - 1) / tries : scaled / tries;
+    }
+    for (int k = 0; k < 2; ++k) {
+      b.seen[k] = std::min(seen[k], kTrial);
+      if (seen[k] > 0) {
+        // The same rate, rounded so that a record that takes the gradient first still does.
+        const int scaled = natural[k] * b.seen[k];
+        b.natural[k] =
+            natural[k] * kRate <= seen[k] ? scaled / seen[k] : (scaled + seen[k] - 1) / seen[k];
+      }
     }
     return b;
   }
