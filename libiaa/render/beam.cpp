@@ -334,8 +334,7 @@ BeamSearch inherit_full(const RenderContext& ctx, const PixelRect& rect, const B
   out.dirs = ctx.setup.frame.dir_box(rect);
   out.hit_box = segment_box(ctx.setup.frame.eye, out.dirs, Interval(out.t_near, out.t_far));
   if (trace) trace->searched = Interval::empty();  // nothing was searched
-  return traced(
-      out, "inside a Full parent at the last level: its proof covers this beam, no search", trace);
+  return traced(out, "inside a Full parent: its proof covers this beam, no search", trace);
 }
 
 bool tighten_far(RenderContext& ctx, BeamSearch* s, double step) {

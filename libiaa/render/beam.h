@@ -45,7 +45,8 @@ BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval rang
 /// A beam inside a Full beam `parent`, without any search: every ray of the parent, so every ray
 /// of this beam, meets the surface in [parent t_near, parent t_far], and the parent's proof (its
 /// slices contain this beam's slices) carries over. Used at the last level, where a tighter
-/// t_near would change nothing but the shading point's bracket. Records `trace` when not null.
+/// t_near would change nothing but the shading point's bracket, and above it when the estimator
+/// over this hit box is already within the threshold. Records `trace` when not null.
 BeamSearch inherit_full(const RenderContext& ctx, const PixelRect& rect, const BeamSearch& parent,
                         BeamTrace* trace);
 

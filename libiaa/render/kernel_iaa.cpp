@@ -203,10 +203,18 @@ class IaaPixel {
     // the part's shading point is found): once another part of the pixel is certified covered
     // it is not tried.
     const bool last = level >= st_.max_level;
-    BeamSearch s = parent_full && last
-                       ? inherit_full(ctx_, rect, *parent_full, t)
-                       : eval_ray_set(ctx_, rect, range, parent_full, t, !(last && any_full_));
-    const BeamDecision decision = decide(rect, last, range, s, t);
+    BeamSearch s;
+    BeamDecision decision = BeamDecision::kSplit;
+    if (parent_full && !last && inherited_leaf(rect, *parent_full, t, &s)) {
+      decision = BeamDecision::kShadeFull;
+      add_leaf(rect, s, range, t);
+    } else {
+      if (t) *t = BeamTrace{};  // what inherited_leaf() recorded is replaced by the search
+      s = parent_full && last
+              ? inherit_full(ctx_, rect, *parent_full, t)
+              : eval_ray_set(ctx_, rect, range, parent_full, t, !(last && any_full_));
+      decision = decide(rect, last, range, s, t);
+    }
     const int index =
         tr_ ? record_beam(*tr_, std::move(bt), rect, level, parent, decision, ctx_.evals - e0) : -1;
     if (decision != BeamDecision::kSplit) return;
@@ -235,6 +243,19 @@ class IaaPixel {
     }
     add_leaf(rect, s, range, t);
     return decision;
+  }
+
+  /// A beam inside a Full beam `parent` is Full over the parent's [t_near, t_far] without any
+  /// search (inherit_full()): when the estimator over that hit box (one gradient evaluation) is
+  /// already within the threshold, the beam is a leaf as it is, and its depth search, which
+  /// would only move t_near closer to the surface, is not needed. Sets `s` and returns true then;
+  /// else the caller searches the beam as usual (the one evaluation is the price of trying).
+  bool inherited_leaf(const PixelRect& rect, const BeamSearch& parent, BeamTrace* t,
+                      BeamSearch* s) {
+    *s = inherit_full(ctx_, rect, parent, t);
+    const Interval est = beam_estimator(ctx_, *s, 1);
+    if (t) t->estimator = est;
+    return est.width() <= st_.estimator_threshold;
   }
 
   /// True when the estimator of the Full beam `s` is within the threshold. The estimator over
