@@ -205,7 +205,7 @@ class IaaPixel {
     const bool last = level >= st_.max_level;
     BeamSearch s;
     BeamDecision decision = BeamDecision::kSplit;
-    if (parent_full && !last && inherited_leaf(rect, *parent_full, t, &s)) {
+    if (parent_full && !last && !st_.shadows && inherited_leaf(rect, *parent_full, t, &s)) {
       decision = BeamDecision::kShadeFull;
       add_leaf(rect, s, range, t);
     } else {
@@ -250,6 +250,9 @@ class IaaPixel {
   /// already within the threshold, the beam is a leaf as it is, and its depth search, which
   /// would only move t_near closer to the surface, is not needed. Sets `s` and returns true then;
   /// else the caller searches the beam as usual (the one evaluation is the price of trying).
+  /// Not with shadows: a Full part's hit box is also the patch its shadow cone is cast from
+  /// (FullPartShadow), and a longer one leaves more shadow edges to sampling (the twist, the
+  /// scene with shadows: the same evaluations, RMSE 0.00261 -> 0.00267).
   bool inherited_leaf(const PixelRect& rect, const BeamSearch& parent, BeamTrace* t,
                       BeamSearch* s) {
     *s = inherit_full(ctx_, rect, parent, t);
