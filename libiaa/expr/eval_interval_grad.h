@@ -115,8 +115,25 @@ struct IntervalGradRules {
   }
   static IGrad neg(const IGrad& a, VarMask m) { return {-a.v, igrad::negate(a.g, m)}; }
   static IGrad pow_int(const IGrad& a, int n, VarMask m) {
-    if (n == 0) return constant(1.0);
-    // (a^n)' = n a^(n-1) a'
+    // The small powers of polynomial surfaces with n a constant, so that iaa::pow_int unrolls
+    // into the rule (the same operations in the same order: the same bounds).
+    switch (n) {
+      case 0:
+        return constant(1.0);
+      case 3:
+        return pow_int_n<3>(a, m);
+      case 4:
+        return pow_int_n<4>(a, m);
+      default:
+        return pow_int_n(a, n, m);
+    }
+  }
+  // (a^n)' = n a^(n-1) a'
+  template <int N>
+  static IGrad pow_int_n(const IGrad& a, VarMask m) {
+    return pow_int_n(a, N, m);
+  }
+  [[gnu::always_inline]] static IGrad pow_int_n(const IGrad& a, int n, VarMask m) {
     return {iaa::pow_int(a.v, n), igrad::scale(a.g, iaa::scale(iaa::pow_int(a.v, n - 1), n), m)};
   }
   /// Real power; out of line (eval_interval_grad.cpp): long, and rare in surfaces.
