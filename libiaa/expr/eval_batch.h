@@ -26,10 +26,35 @@
 
 namespace iaa {
 
+namespace detail {
+
+/// One slot of a batched evaluator: K lower bounds, then K upper bounds, on one or two cache
+/// lines.
+template <int K>
+struct alignas(64) BatchSlot {
+  double lo[K];
+  double hi[K];
+};
+
+/// The instruction-set choice of the batched evaluators (this one and eval_batch_grad.h).
+class BatchIsa {
+ public:
+  /// Which code runs the lanes: "avx2" where the processor has AVX2, else "sse2" (the baseline).
+  const char* isa() const { return use_avx2_ ? "avx2" : "sse2"; }
+  /// With true, runs the baseline (SSE2) code even where AVX2 is there: for tests and benchmarks.
+  void use_baseline(bool baseline);
+
+ protected:
+  BatchIsa();
+  bool use_avx2_ = false;
+};
+
+}  // namespace detail
+
 /// Evaluates one tape over up to K boxes per call. One per thread; no allocation per call.
 /// Opens a RoundingScope itself when the caller has none.
 template <int K>
-class BatchIntervalEvalK {
+class BatchIntervalEvalK : public detail::BatchIsa {
  public:
   static_assert(K == 2 || K == 4 || K == 8 || K == 16, "lane counts that are instantiated");
   /// The most boxes one call evaluates.
@@ -47,17 +72,8 @@ class BatchIntervalEvalK {
   bool partial_domain(int lane) const { return partial_[static_cast<std::size_t>(lane)] != 0; }
   const Tape& tape() const { return *tape_; }
 
-  /// Which code runs the lanes: "avx2" where the processor has AVX2, else "sse2" (the baseline).
-  const char* isa() const;
-  /// With true, runs the baseline (SSE2) code even where AVX2 is there: for tests and benchmarks.
-  void use_baseline(bool baseline);
-
  private:
-  /// One slot: K lower bounds, then K upper bounds, on one or two cache lines.
-  struct alignas(64) Slot {
-    double lo[K];
-    double hi[K];
-  };
+  using Slot = detail::BatchSlot<K>;
 
   void run(int n);
   void run_baseline(int n);
@@ -82,7 +98,6 @@ class BatchIntervalEvalK {
   const Tape* tape_;
   std::vector<Slot> slots_;
   std::uint8_t partial_[K] = {};
-  bool use_avx2_ = false;
 };
 
 /// The lane count that measured best (docs/eval.md, "The batched interval evaluator").

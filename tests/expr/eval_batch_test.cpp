@@ -2,7 +2,8 @@
 // (bit for bit, signs of zeros included) and its partial-domain flag the same, for random
 // expressions over every operation, endpoint-heavy boxes (unbounded, empty, degenerate, touching
 // or straddling 0), every batch size from 1 to K, with the baseline (SSE2) code and, where the
-// processor has it, the AVX2 code.
+// processor has it, the AVX2 code. BatchIntervalGradEvalK likewise against IntervalGradEval: the
+// value and the three partials, with every set of wanted partials.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -12,7 +13,9 @@
 #include <vector>
 
 #include "expr/eval_batch.h"
+#include "expr/eval_batch_grad.h"
 #include "expr/eval_interval.h"
+#include "expr/eval_interval_grad.h"
 #include "expr/random_expr.h"
 
 namespace iaa {
@@ -167,6 +170,199 @@ TEST(BatchIntervalEval, OpensItsOwnRoundingScope) {
     const Interval want = ie.eval(boxes[j]);
     EXPECT_EQ(bits(out[j].lo()), bits(want.lo()));
     EXPECT_EQ(bits(out[j].hi()), bits(want.hi()));
+  }
+}
+
+// --- The interval + gradient evaluator ---
+
+/// True when a and b are the same pair of doubles.
+bool same_bits(const Interval& a, const Interval& b) {
+  return bits(a.lo()) == bits(b.lo()) && bits(a.hi()) == bits(b.hi());
+}
+
+/// Evaluates `boxes` in one batch and each box with IntervalGradEval; reports the first
+/// difference.
+template <int K>
+::testing::AssertionResult same_grad_as_scalar(BatchIntervalGradEvalK<K>& be, IntervalGradEval& ie,
+                                               const std::vector<IBox>& boxes) {
+  const int n = static_cast<int>(boxes.size());
+  IGrad out[K];
+  {
+    RoundingScope scope;
+    be.eval(boxes.data(), n, out);
+  }
+  for (int j = 0; j < n; ++j) {
+    const IGrad want = ie.eval(boxes[static_cast<std::size_t>(j)]);
+    const bool want_partial = ie.partial_domain();
+    for (int c = 0; c < 4; ++c) {
+      const Interval& got = c == 0 ? out[j].v : out[j].g[static_cast<std::size_t>(c - 1)];
+      const Interval& w = c == 0 ? want.v : want.g[static_cast<std::size_t>(c - 1)];
+      if (same_bits(got, w) && be.partial_domain(j) == want_partial) continue;
+      const IBox& b = boxes[static_cast<std::size_t>(j)];
+      char msg[512];
+      std::snprintf(msg, sizeof msg,
+                    "lane %d of %d (K=%d, %s), %s: batch [%a, %a] partial %d, scalar [%a, %a] "
+                    "partial %d; box [%a,%a]x[%a,%a]x[%a,%a]",
+                    j, n, K, be.isa(),
+                    c == 0   ? "value"
+                    : c == 1 ? "d/dx"
+                    : c == 2 ? "d/dy"
+                             : "d/dz",
+                    got.lo(), got.hi(), int(be.partial_domain(j)), w.lo(), w.hi(),
+                    int(want_partial), b.x.lo(), b.x.hi(), b.y.lo(), b.y.hi(), b.z.lo(), b.z.hi());
+      return ::testing::AssertionFailure() << msg << "\n" << be.tape().to_text();
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+/// Every batch size 1..K on fresh random boxes, with both instruction sets, for the partials
+/// `wanted`.
+template <int K>
+::testing::AssertionResult check_grad_tape(const Tape& tape, RandomExpr& r, int rounds,
+                                           detail::VarMask wanted = detail::kAllVars) {
+  BatchIntervalGradEvalK<K> be(tape, wanted);
+  IntervalGradEval ie(tape, wanted);
+  for (int baseline = 0; baseline < 2; ++baseline) {
+    be.use_baseline(baseline != 0);
+    for (int round = 0; round < rounds; ++round) {
+      for (int n = 1; n <= K; ++n) {
+        std::vector<IBox> boxes;
+        for (int j = 0; j < n; ++j) boxes.push_back(random_box(r));
+        auto res = same_grad_as_scalar<K>(be, ie, boxes);
+        if (!res) return res << " (wanted partials " << int(wanted) << ")";
+      }
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+TEST(BatchIntervalGradEval, EveryOperationMatchesTheScalarEvaluator) {
+  const char* kExprs[] = {
+      "x + y",
+      "x - y",
+      "x * y",
+      "2.5 * x",
+      "x * (-3)",
+      "x / y",
+      "x / 3",
+      "x / (-0.7)",
+      "-x",
+      "x^0",
+      "x^1",
+      "x^2",
+      "x^3",
+      "x^4",
+      "x^7",
+      "x^8",
+      "x^23",
+      "square(x)",
+      "sqrt(x)",
+      "exp(x)",
+      "log(x)",
+      "sin(x)",
+      "cos(x)",
+      "sin(x) * cos(x)",
+      "tan(x)",
+      "atan(x)",
+      "abs(x)",
+      "min(x, y)",
+      "max(x, y)",
+      "pow(x, y)",
+      "x^0.5",
+      "x * x * y - z",
+      "1 / x",
+      "x^(-2)",
+      "x",
+      "7",
+      "(x*y)^3 - square(y + z) * x",
+      "(x + y*z)^0 * z",
+      "-(x*y) / 3 + 2 * (y*z)^2",
+  };
+  std::set<Op> seen;
+  RandomExpr r(17);
+  for (const char* e : kExprs) {
+    const Tape tape = Tape::parse(e);
+    for (int i = tape.first_op(); i < tape.size(); ++i) seen.insert(tape.instrs()[i].op);
+    EXPECT_TRUE(check_grad_tape<8>(tape, r, 20)) << e;
+    EXPECT_TRUE(check_grad_tape<4>(tape, r, 5)) << e;
+    for (detail::VarMask w = 0; w < detail::kAllVars; ++w) {
+      EXPECT_TRUE(check_grad_tape<8>(tape, r, 3, w)) << e;
+    }
+  }
+  for (int op = static_cast<int>(Op::kAdd); op < kOpCount; ++op) {
+    EXPECT_TRUE(seen.count(static_cast<Op>(op))) << "not covered: " << info(Op(op)).text;
+  }
+}
+
+// Random expressions over every operation of the language, every batch size, K = 2, 4, 8, 16,
+// with all partials and with each smaller set.
+TEST(BatchIntervalGradEval, RandomExpressionsMatchTheScalarEvaluator) {
+  const int scale = testing::property_scale();
+  RandomExpr r(1602u + static_cast<unsigned>(scale));
+  int tapes = 0;
+  while (tapes < 200 * scale) {
+    const std::string text = r.make(5);
+    if (!RandomExpr::parses(text)) continue;
+    const Tape tape = Tape::parse(text);
+    ++tapes;
+    ASSERT_TRUE(check_grad_tape<8>(tape, r, 2));
+    ASSERT_TRUE(check_grad_tape<8>(tape, r, 1, detail::VarMask(1 + tapes % 6)));
+    if (tapes % 4 == 0) {
+      ASSERT_TRUE(check_grad_tape<2>(tape, r, 1));
+      ASSERT_TRUE(check_grad_tape<4>(tape, r, 1));
+      ASSERT_TRUE(check_grad_tape<16>(tape, r, 1));
+    }
+  }
+}
+
+// Signed zeros: a product of intervals with 0 at an end may give -0 or +0 by the order of its
+// products, so the product rule must multiply in IntervalGradRules' order (a' * b, then b' * a).
+// Every box of sides ending at a signed zero, in batches of 8, for products whose partials and
+// values both end at 0 there.
+TEST(BatchIntervalGradEval, SignedZerosMatchTheScalarEvaluator) {
+  const Interval sides[] = {Interval::raw(-1, -0.0), Interval::raw(-1, 0.0),
+                            Interval::raw(-0.0, 1),  Interval::raw(0.0, 2),
+                            Interval::raw(-2, -0.0), Interval::raw(-0.0, 0.0),
+                            Interval::raw(0.0, 0.0), Interval::raw(-0.0, -0.0)};
+  std::vector<IBox> all;
+  for (const Interval& x : sides) {
+    for (const Interval& y : sides) {
+      for (const Interval& z : sides) all.push_back(IBox(x, y, z));
+    }
+  }
+  for (const char* e :
+       {"x * y", "(x * y) * (x * z)", "(x * y) * (y * z) - x^3 * z", "square(x * y)", "(x * y)^3",
+        "(x*y - y*z) * (x*z) / 3", "-(x * y) * 2.5 * (x + z)"}) {
+    const Tape tape = Tape::parse(e);
+    for (detail::VarMask w = 1; w <= detail::kAllVars; ++w) {
+      BatchIntervalGradEvalK<8> be(tape, w);
+      IntervalGradEval ie(tape, w);
+      for (int baseline = 0; baseline < 2; ++baseline) {
+        be.use_baseline(baseline != 0);
+        for (std::size_t i = 0; i < all.size(); i += 8) {
+          const std::vector<IBox> boxes(all.begin() + static_cast<std::ptrdiff_t>(i),
+                                        all.begin() + static_cast<std::ptrdiff_t>(i + 8));
+          ASSERT_TRUE(same_grad_as_scalar<8>(be, ie, boxes)) << e;
+        }
+      }
+    }
+  }
+}
+
+// Works without a RoundingScope of the caller's, as IntervalGradEval does.
+TEST(BatchIntervalGradEval, OpensItsOwnRoundingScope) {
+  const Tape tape = Tape::parse("x^3 - y * z + 0.1");
+  BatchIntervalGradEval be(tape);
+  IntervalGradEval ie(tape);
+  const IBox boxes[2] = {IBox(Interval(0.1, 0.3), Interval(-1, 2), Interval(0.7, 0.71)),
+                         IBox(Interval(-3, -2), Interval(0.5), Interval(-1, 1))};
+  IGrad out[2];
+  be.eval(boxes, 2, out);
+  for (int j = 0; j < 2; ++j) {
+    const IGrad want = ie.eval(boxes[j]);
+    EXPECT_TRUE(same_bits(out[j].v, want.v));
+    for (std::size_t d = 0; d < 3; ++d) EXPECT_TRUE(same_bits(out[j].g[d], want.g[d]));
   }
 }
 

@@ -1,0 +1,223 @@
+// The vector half of the batched evaluators (eval_batch.cpp, eval_batch_grad.cpp): W doubles in
+// one vector of GCC's and Clang's vector extension, and the fast interval rules over W lanes at a
+// time. Each rule computes the bounds with the expressions of core/interval.h in the same order,
+// so that each lane rounds exactly as the scalar operation does, and sets, per lane, `bad` where
+// the scalar operation would have left its fast path (an empty or unbounded argument, a NaN
+// bound): the evaluator then recomputes the operation with the scalar rule. Never FMA (no
+// contraction may change a bound); -frounding-math (iaa_options) keeps the expressions as written.
+//
+// Internal to libiaa/expr: everything here is forced inline, so that the loops that use it are
+// compiled once per instruction set (the baseline, and an AVX2 copy chosen at run time) and no
+// 32-byte vector crosses a call (see -Wno-psabi in CMakeLists.txt).
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
+#define IAA_BATCH_AVX2 1
+#define IAA_TARGET_AVX2 __attribute__((target("avx2")))
+#else
+#define IAA_BATCH_AVX2 0
+#define IAA_TARGET_AVX2
+#endif
+
+#if defined(__GNUC__) || defined(__clang__)
+#define IAA_ALWAYS_INLINE __attribute__((always_inline)) inline
+#else
+#define IAA_ALWAYS_INLINE inline
+#endif
+
+namespace iaa::detail::batch {
+
+/// True where the processor runs AVX2 code.
+inline bool cpu_has_avx2() {
+#if IAA_BATCH_AVX2
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
+/// W doubles in one vector: 2 is an SSE2 register, 4 an AVX2 one. Each operator works lane by
+/// lane with the IEEE operation of its scalar form, in the current rounding mode, so a lane's
+/// result is the double the scalar expression gives.
+template <int W>
+struct VectorTypes;
+template <>
+struct VectorTypes<2> {
+  typedef double V __attribute__((vector_size(16)));
+  typedef std::int64_t M __attribute__((vector_size(16)));  ///< comparison results: 0 or -1
+};
+template <>
+struct VectorTypes<4> {
+  typedef double V __attribute__((vector_size(32)));
+  typedef std::int64_t M __attribute__((vector_size(32)));
+};
+
+template <int W>
+struct Lanes {
+  using V = typename VectorTypes<W>::V;
+  using M = typename VectorTypes<W>::M;
+  /// W intervals: their lower and their upper bounds.
+  struct I {
+    V lo, hi;
+  };
+
+  static IAA_ALWAYS_INLINE V load(const double* p) {
+    V v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  }
+  static IAA_ALWAYS_INLINE void store(double* p, const V& v) { std::memcpy(p, &v, sizeof v); }
+  /// The intervals of lanes c..c+W-1 of bound arrays lo and hi, and back.
+  static IAA_ALWAYS_INLINE I load(const double* lo, const double* hi, int c) {
+    return {load(lo + c), load(hi + c)};
+  }
+  static IAA_ALWAYS_INLINE void store(double* lo, double* hi, int c, const I& x) {
+    store(lo + c, x.lo);
+    store(hi + c, x.hi);
+  }
+  static IAA_ALWAYS_INLINE V splat(double x) {
+    V v;
+    for (int j = 0; j < W; ++j) v[j] = x;
+    return v;
+  }
+  static IAA_ALWAYS_INLINE M none() { return M{} != M{}; }
+  static IAA_ALWAYS_INLINE M all() { return M{} == M{}; }
+  /// std::max(a, b) and std::min(a, b) lane by lane: (a < b) ? b : a and (b < a) ? b : a.
+  static IAA_ALWAYS_INLINE V max(V a, V b) { return (a < b) ? b : a; }
+  static IAA_ALWAYS_INLINE V min(V a, V b) { return (b < a) ? b : a; }
+  /// True when a lane of m is set.
+  static IAA_ALWAYS_INLINE bool any(M m) {
+    std::int64_t r = 0;
+    for (int j = 0; j < W; ++j) r |= m[j];
+    return r != 0;
+  }
+  /// Set where a bound is infinite or NaN: detail::all_finite's test, lane by lane.
+  static IAA_ALWAYS_INLINE M not_finite(V x) {
+    const V big = splat(std::numeric_limits<double>::max());
+    return ~((x <= big) & (-big <= x));
+  }
+  /// detail::pow_up lane by lane: x^n rounded up, its products in its order (n >= 1).
+  static IAA_ALWAYS_INLINE V pow_up(V x, int n) {
+    V y = (n & 1) ? x : splat(1.0);
+    for (int p = n >> 1; p > 0; p >>= 1) {
+      x = x * x;
+      if (p & 1) y = x * y;
+    }
+    return y;
+  }
+  /// detail::pow_down lane by lane: x^n rounded down (n >= 1).
+  static IAA_ALWAYS_INLINE V pow_down(V x, int n) {
+    V y = (n & 1) ? x : splat(1.0);
+    for (int p = n >> 1; p > 0; p >>= 1) {
+      x = -((-x) * x);
+      if (p & 1) y = -((-x) * y);
+    }
+    return y;
+  }
+
+  // The fast interval rules. `bad` gains the lanes where the scalar operation leaves the
+  // expressions below (its fast path); the rules without `bad` have no such lanes.
+
+  /// operator+: an empty argument or a NaN bound fails lo <= hi.
+  static IAA_ALWAYS_INLINE I add(const I& a, const I& b, M& bad) {
+    const I r{-((-a.lo) - b.lo), a.hi + b.hi};
+    bad |= ~(r.lo <= r.hi);
+    return r;
+  }
+  /// operator-(a, b).
+  static IAA_ALWAYS_INLINE I sub(const I& a, const I& b, M& bad) {
+    const I r{-(b.hi - a.lo), a.hi - b.lo};
+    bad |= ~(r.lo <= r.hi);
+    return r;
+  }
+  /// operator*: finite bounds, else detail::mul_general.
+  static IAA_ALWAYS_INLINE I mul(const I& a, const I& b, M& bad) {
+    bad |= not_finite(a.lo) | not_finite(a.hi) | not_finite(b.lo) | not_finite(b.hi);
+    const V hi = max(max(a.lo * b.lo, a.lo * b.hi), max(a.hi * b.lo, a.hi * b.hi));
+    const V n0 = -a.lo, n1 = -a.hi;
+    const V lo = -max(max(n0 * b.lo, n0 * b.hi), max(n1 * b.lo, n1 * b.hi));
+    return {lo, hi};
+  }
+  /// iaa::scale(a, c), c finite and non-zero: no tests; empty and unbounded arguments come out
+  /// as they do there.
+  static IAA_ALWAYS_INLINE I scale(const I& a, double c) {
+    const V cc = splat(c);
+    const V l = c > 0.0 ? a.lo : a.hi, h = c > 0.0 ? a.hi : a.lo;
+    return {-((-l) * cc), h * cc};
+  }
+  /// iaa::div_const(a, c).
+  static IAA_ALWAYS_INLINE I div_const(const I& a, double c) {
+    const V cc = splat(c);
+    const V l = c > 0.0 ? a.lo : a.hi, h = c > 0.0 ? a.hi : a.lo;
+    return {-((-l) / cc), h / cc};
+  }
+  /// iaa::divide's inline path: non-empty arguments, a divisor that excludes 0, and no NaN
+  /// quotient (inf / inf), which Interval(lo, hi) would make infinite.
+  static IAA_ALWAYS_INLINE I div(const I& a, const I& b, M& bad) {
+    const V zero = splat(0.0);
+    const M neg = b.hi < zero;
+    const V nl = neg ? -a.hi : a.lo, nh = neg ? -a.lo : a.hi;
+    const V dl = neg ? -b.hi : b.lo, dh = neg ? -b.lo : b.hi;
+    const I r{-((-nl) / ((nl >= zero) ? dh : dl)), nh / ((nh >= zero) ? dl : dh)};
+    bad |= ~(a.lo <= a.hi) | ~(b.lo <= b.hi) | ((b.lo <= zero) & (zero <= b.hi)) | ~(r.lo <= r.hi);
+    return r;
+  }
+  /// -a, empty included: (-(-inf), -(+inf)) is the empty interval again.
+  static IAA_ALWAYS_INLINE I neg(const I& a) { return {-a.hi, -a.lo}; }
+  /// detail::abs_range: the least and the greatest |x| over x.
+  static IAA_ALWAYS_INLINE void abs_range(const I& x, V* small, V* big) {
+    *big = max(-x.lo, x.hi);
+    *small = max(splat(0.0), max(x.lo, -x.hi));
+  }
+  /// iaa::square; an empty argument (returned as it is there) is bad.
+  static IAA_ALWAYS_INLINE I square(const I& x, M& bad) {
+    V small, big;
+    abs_range(x, &small, &big);
+    bad |= x.lo > x.hi;
+    return {-((-small) * small), big * big};
+  }
+  /// iaa::pow_int(x, p), p >= 0 the same in every lane, so its cases are chosen once; an empty
+  /// argument (returned as it is there) is bad.
+  static IAA_ALWAYS_INLINE I pow_int(const I& x, int p, M& bad) {
+    bad |= x.lo > x.hi;
+    if (p == 0) return {splat(1.0), splat(1.0)};
+    if (p == 1) return x;
+    V small, big;
+    if (p == 2) {
+      abs_range(x, &small, &big);
+      return {-((-small) * small), big * big};
+    }
+    if (p & 1) {
+      // Increasing: each end's power rounded its way, through |end| where the end is < 0.
+      const V zero = splat(0.0);
+      const V lp = pow_down(x.lo, p), ln = -pow_up(-x.lo, p);
+      const V hp = pow_up(x.hi, p), hn = -pow_down(-x.hi, p);
+      return {(x.lo >= zero) ? lp : ln, (x.hi >= zero) ? hp : hn};
+    }
+    abs_range(x, &small, &big);
+    return {pow_down(small, p), pow_up(big, p)};
+  }
+  /// iaa::abs: x where lo >= 0, -x where hi <= 0, else [0, max(-lo, hi)]; empty is bad.
+  static IAA_ALWAYS_INLINE I abs(const I& x, M& bad) {
+    const V zero = splat(0.0);
+    const M pos = x.lo >= zero, nonpos = x.hi <= zero;
+    bad |= x.lo > x.hi;
+    return {pos ? x.lo : (nonpos ? -x.hi : zero), pos ? x.hi : (nonpos ? -x.lo : max(-x.lo, x.hi))};
+  }
+  /// iaa::min and iaa::max: an empty argument (which gives empty) is bad.
+  static IAA_ALWAYS_INLINE I min(const I& a, const I& b, M& bad) {
+    bad |= (a.lo > a.hi) | (b.lo > b.hi);
+    return {min(a.lo, b.lo), min(a.hi, b.hi)};
+  }
+  static IAA_ALWAYS_INLINE I max(const I& a, const I& b, M& bad) {
+    bad |= (a.lo > a.hi) | (b.lo > b.hi);
+    return {max(a.lo, b.lo), max(a.hi, b.hi)};
+  }
+};
+
+}  // namespace iaa::detail::batch
