@@ -15,6 +15,11 @@
 #include <cstring>
 #include <limits>
 
+#include "core/error.h"
+#include "core/interval.h"
+#include "core/vec.h"
+#include "expr/tape.h"
+
 #if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
 #define IAA_BATCH_AVX2 1
 #define IAA_TARGET_AVX2 __attribute__((target("avx2")))
@@ -217,6 +222,120 @@ struct Lanes {
   static IAA_ALWAYS_INLINE I max(const I& a, const I& b, M& bad) {
     bad |= (a.lo > a.hi) | (b.lo > b.hi);
     return {max(a.lo, b.lo), max(a.hi, b.hi)};
+  }
+};
+
+/// The scalar rule of instruction `in` (Rules: IntervalRules, IntervalGradRules) for one lane,
+/// for what the fast rules do not cover: `arg(slot)` reads an argument's lane, `put(0, r)` writes
+/// the result's (and `put(1, r)` the paired cos of a sincos); `m` is the output slot's mask for
+/// the modes that use masks, as in TapeLoop.
+template <class Rules, class Arg, class Put, class... Mask>
+inline void scalar_rule(const Instr& in, const double* k, Arg arg, Put put, Domain* dom,
+                        Mask... m) {
+  const typename Rules::Num a = arg(in.a);
+  std::uint8_t choice = 0;  // min/max choices are not recorded (eval_batch_grad.h)
+  switch (in.op) {
+    case Op::kAdd:
+      return put(0, Rules::add(a, arg(in.b), m...));
+    case Op::kSub:
+      return put(0, Rules::sub(a, arg(in.b), m...));
+    case Op::kMul:
+      return put(0, Rules::mul(a, arg(in.b), m...));
+    case Op::kScale:
+      return put(0, Rules::scale(a, k[in.b], m...));
+    case Op::kDiv:
+      return put(0, Rules::div(a, arg(in.b), dom, m...));
+    case Op::kDivConst:
+      return put(0, Rules::div_const(a, k[in.b], m...));
+    case Op::kNeg:
+      return put(0, Rules::neg(a, m...));
+    case Op::kPowInt:
+      return put(0, Rules::pow_int(a, in.power, m...));
+    case Op::kPow:
+      return put(0, Rules::pow(a, arg(in.b), dom, m...));
+    case Op::kSquare:
+      return put(0, Rules::square(a, m...));
+    case Op::kSqrt:
+      return put(0, Rules::sqrt(a, dom, m...));
+    case Op::kExp:
+      return put(0, Rules::exp(a, m...));
+    case Op::kLog:
+      return put(0, Rules::log(a, dom, m...));
+    case Op::kSin:
+      return put(0, Rules::sin(a, m...));
+    case Op::kCos:
+      return put(0, Rules::cos(a, m...));
+    case Op::kSinCos: {
+      const auto [sv, cv] = Rules::sincos(a, m...);
+      put(0, sv);
+      return put(1, cv);  // the paired cos, with this slot's mask
+    }
+    case Op::kTan:
+      return put(0, Rules::tan(a, dom, m...));
+    case Op::kAtan:
+      return put(0, Rules::atan(a, m...));
+    case Op::kAbs:
+      return put(0, Rules::abs(a, m...));
+    case Op::kMin:
+      return put(0, Rules::min(a, arg(in.b), &choice, m...));
+    case Op::kMax:
+      return put(0, Rules::max(a, arg(in.b), &choice, m...));
+    case Op::kPairedCos:
+    case Op::kVarX:
+    case Op::kVarY:
+    case Op::kVarZ:
+    case Op::kConst:
+      return;  // written by the sincos before it, or never after first_op
+  }
+}
+
+/// Runs an evaluator's loop (its run_impl<W>, forced inline) with the baseline code or the AVX2
+/// copy of it. The evaluators befriend it.
+struct Runner {
+  /// The start of an evaluation: loads the boxes (the unused lanes n..K-1 copy box 0) into the
+  /// variables' value slots (`var(v)`, v = 0, 1, 2), clears the partial-domain flags and runs
+  /// the loop, under upward rounding (opening a RoundingScope when the caller has none).
+  template <class Eval, class Var>
+  static void load_and_run(Eval& e, const IBox* boxes, int n, Var var) {
+    constexpr int K = Eval::kLanes;
+    IAA_CHECK(n >= 1 && n <= K);
+    for (int v = 0; v < 3; ++v) {
+      auto& s = var(v);
+      for (int j = 0; j < K; ++j) {
+        const Interval& x = boxes[j < n ? j : 0][v];
+        s.lo[j] = x.lo();
+        s.hi[j] = x.hi();
+      }
+    }
+    for (int j = 0; j < K; ++j) e.partial_[j] = 0;
+    if (rounding_is_upward()) [[likely]] {
+      run(e, e.use_avx2_, n);
+    } else {
+      RoundingScope scope;
+      run(e, e.use_avx2_, n);
+    }
+  }
+  template <class Eval>
+  static void run(Eval& e, bool avx2, int n) {
+#if IAA_BATCH_AVX2
+    if (avx2) return run_avx2(e, n);
+#else
+    (void)avx2;
+#endif
+    e.template run_impl<2>(n);
+  }
+  /// Runs instruction i's scalar rule in the lanes in use (an operation without a fast rule, or
+  /// with flagged lanes), then copies lane 0 to the unused lanes (for a sincos, of its paired
+  /// cos too), so that they compute what lane 0 does and never leave the fast rules.
+  template <class Eval>
+  static void scalar_lanes(Eval& e, const Instr& in, int i, int n) {
+    for (int j = 0; j < n; ++j) e.scalar_op(i, j);
+    e.fill_unused(i, n);
+    if (in.op == Op::kSinCos) e.fill_unused(i + 1, n);
+  }
+  template <class Eval>
+  IAA_TARGET_AVX2 static void run_avx2(Eval& e, int n) {
+    e.template run_impl<(Eval::kLanes < 4 ? Eval::kLanes : 4)>(n);
   }
 };
 

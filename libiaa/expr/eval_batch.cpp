@@ -47,35 +47,10 @@ BatchIntervalEvalK<K>::BatchIntervalEvalK(const Tape& tape)
 
 template <int K>
 void BatchIntervalEvalK<K>::eval(const IBox* boxes, int n, Interval* out) {
-  IAA_CHECK(n >= 1 && n <= K);
-  for (int v = 0; v < 3; ++v) {
-    Slot& s = slots_[static_cast<std::size_t>(v)];
-    for (int j = 0; j < K; ++j) {
-      const Interval& x = boxes[j < n ? j : 0][v];
-      s.lo[j] = x.lo();
-      s.hi[j] = x.hi();
-    }
-  }
-  std::fill(partial_, partial_ + K, std::uint8_t{0});
-  if (rounding_is_upward()) [[likely]] {
-    run(n);
-  } else {
-    RoundingScope scope;
-    run(n);
-  }
+  detail::batch::Runner::load_and_run(
+      *this, boxes, n, [&](int v) -> Slot& { return slots_[static_cast<std::size_t>(v)]; });
   const Slot& r = slots_[static_cast<std::size_t>(tape_->root())];
   for (int j = 0; j < n; ++j) out[j] = Interval::raw(r.lo[j], r.hi[j]);
-}
-
-template <int K>
-void BatchIntervalEvalK<K>::run(int n) {
-#if IAA_BATCH_AVX2
-  if (use_avx2_) {
-    run_avx2(n);
-    return;
-  }
-#endif
-  run_baseline(n);
 }
 
 template <int K>
@@ -89,97 +64,19 @@ void BatchIntervalEvalK<K>::fill_unused(int i, int n) {
 
 template <int K>
 void BatchIntervalEvalK<K>::scalar_op(int i, int j) {
-  using R = detail::IntervalRules;
-  const Instr& in = tape_->instrs()[static_cast<std::size_t>(i)];
-  const double* k = tape_->constants().data();
-  const auto lane = [&](int slot) {
-    const Slot& s = slots_[static_cast<std::size_t>(slot)];
+  const auto arg = [&](int t) {
+    const Slot& s = slots_[static_cast<std::size_t>(t)];
     return Interval::raw(s.lo[j], s.hi[j]);
   };
-  const Interval a = lane(in.a);
+  const auto put = [&](int next, const Interval& r) {
+    Slot& o = slots_[static_cast<std::size_t>(i + next)];
+    o.lo[j] = r.lo();
+    o.hi[j] = r.hi();
+  };
   Domain dom = Domain::kFull;
-  std::uint8_t choice = 0;
-  Interval r;
-  switch (in.op) {
-    case Op::kAdd:
-      r = R::add(a, lane(in.b));
-      break;
-    case Op::kSub:
-      r = R::sub(a, lane(in.b));
-      break;
-    case Op::kMul:
-      r = R::mul(a, lane(in.b));
-      break;
-    case Op::kScale:
-      r = R::scale(a, k[in.b]);
-      break;
-    case Op::kDiv:
-      r = R::div(a, lane(in.b), &dom);
-      break;
-    case Op::kDivConst:
-      r = R::div_const(a, k[in.b]);
-      break;
-    case Op::kNeg:
-      r = R::neg(a);
-      break;
-    case Op::kPowInt:
-      r = R::pow_int(a, in.power);
-      break;
-    case Op::kPow:
-      r = R::pow(a, lane(in.b), &dom);
-      break;
-    case Op::kSquare:
-      r = R::square(a);
-      break;
-    case Op::kSqrt:
-      r = R::sqrt(a, &dom);
-      break;
-    case Op::kExp:
-      r = R::exp(a);
-      break;
-    case Op::kLog:
-      r = R::log(a, &dom);
-      break;
-    case Op::kSin:
-      r = R::sin(a);
-      break;
-    case Op::kCos:
-      r = R::cos(a);
-      break;
-    case Op::kSinCos: {
-      const auto [sv, cv] = R::sincos(a);
-      r = sv;
-      Slot& c = slots_[static_cast<std::size_t>(i) + 1];
-      c.lo[j] = cv.lo();
-      c.hi[j] = cv.hi();
-      break;
-    }
-    case Op::kTan:
-      r = R::tan(a, &dom);
-      break;
-    case Op::kAtan:
-      r = R::atan(a);
-      break;
-    case Op::kAbs:
-      r = R::abs(a);
-      break;
-    case Op::kMin:
-      r = R::min(a, lane(in.b), &choice);
-      break;
-    case Op::kMax:
-      r = R::max(a, lane(in.b), &choice);
-      break;
-    case Op::kPairedCos:
-    case Op::kVarX:
-    case Op::kVarY:
-    case Op::kVarZ:
-    case Op::kConst:
-      return;  // written by the sincos before it, or never after first_op
-  }
+  detail::batch::scalar_rule<detail::IntervalRules>(tape_->instrs()[static_cast<std::size_t>(i)],
+                                                    tape_->constants().data(), arg, put, &dom);
   if (dom == Domain::kPartial) partial_[j] = 1;
-  Slot& o = slots_[static_cast<std::size_t>(i)];
-  o.lo[j] = r.lo();
-  o.hi[j] = r.hi();
 }
 
 template <int K>
@@ -198,7 +95,7 @@ IAA_ALWAYS_INLINE void BatchIntervalEvalK<K>::run_impl(int n) {
     const Slot& sb = s[in.b >= 0 ? in.b : 0];
     Slot& so = s[i];
     // Lanes a fast rule flags (any lane; the unused ones copy lane 0) send the operation to the
-    // scalar rule for the lanes in use, after which the unused lanes take lane 0's result again.
+    // scalar rule for the lanes in use (Runner::scalar_lanes).
     M bad = L::none();
     // Runs `rule(a, b)` for each group of W lanes and stores its result.
     const auto each = [&](auto rule) __attribute__((always_inline)) {
@@ -207,6 +104,7 @@ IAA_ALWAYS_INLINE void BatchIntervalEvalK<K>::run_impl(int n) {
       }
     };
     using I = typename L::I;
+    if (in.op == Op::kPairedCos) continue;  // written by the sincos before it
     switch (in.op) {
       case Op::kAdd:
         each([&](const I& a, const I& b)
@@ -254,37 +152,15 @@ IAA_ALWAYS_INLINE void BatchIntervalEvalK<K>::run_impl(int n) {
         each([&](const I& a, const I& b)
                  __attribute__((always_inline)) { return L::max(a, b, bad); });
         break;
-      case Op::kSinCos:
-        for (int j = 0; j < n; ++j) scalar_op(i, j);
-        fill_unused(i, n);
-        fill_unused(i + 1, n);
-        break;
-      case Op::kPairedCos:
-      case Op::kVarX:
-      case Op::kVarY:
-      case Op::kVarZ:
-      case Op::kConst:
-        break;  // written by the sincos before it, or never after first_op
       default:
-        // sqrt, exp, log, sin, cos, tan, atan, the real power: the scalar rule in each lane.
+        // sqrt, exp, log, sin, cos, sincos, tan, atan, the real power: the scalar rule in each
+        // lane.
         bad = L::all();
         break;
     }
-    if (L::any(bad)) [[unlikely]] {
-      for (int j = 0; j < n; ++j) scalar_op(i, j);
-      fill_unused(i, n);
-    }
+    if (L::any(bad)) [[unlikely]]
+      detail::batch::Runner::scalar_lanes(*this, in, i, n);
   }
-}
-
-template <int K>
-void BatchIntervalEvalK<K>::run_baseline(int n) {
-  run_impl<2>(n);
-}
-
-template <int K>
-IAA_TARGET_AVX2 void BatchIntervalEvalK<K>::run_avx2(int n) {
-  run_impl<(K < 4 ? K : 4)>(n);
 }
 
 template class BatchIntervalEvalK<2>;

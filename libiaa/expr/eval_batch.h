@@ -28,6 +28,10 @@ namespace iaa {
 
 namespace detail {
 
+namespace batch {
+struct Runner;
+}  // namespace batch
+
 /// One slot of a batched evaluator: K lower bounds, then K upper bounds, on one or two cache
 /// lines.
 template <int K>
@@ -75,20 +79,10 @@ class BatchIntervalEvalK : public detail::BatchIsa {
  private:
   using Slot = detail::BatchSlot<K>;
 
-  void run(int n);
-  void run_baseline(int n);
-#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-  __attribute__((target("avx2")))
-#endif
-  void
-  run_avx2(int n);
-  // The loop itself, inlined into both of the above (compiled once per instruction set).
+  // The loop, forced inline into the baseline and the AVX2 code (batch_lanes.h, Runner).
+  friend struct detail::batch::Runner;
   template <int W>
-#if defined(__GNUC__) || defined(__clang__)
-  __attribute__((always_inline))
-#endif
-  void
-  run_impl(int n);
+  void run_impl(int n);
   /// The scalar rule of instruction i for lane j (IntervalRules of eval_interval.h).
   void scalar_op(int i, int j);
   /// Copies lane 0 of slot i to the lanes n..K-1, so that the unused lanes compute what lane 0

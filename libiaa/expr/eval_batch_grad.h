@@ -57,40 +57,30 @@ class BatchIntervalGradEvalK : public detail::BatchIsa {
   /// Tape slot i's value (c = 0) or its partial along variable c - 1.
   Slot& slot(int i, int c) { return slots_[static_cast<std::size_t>(4 * i + c)]; }
 
-  void run(int n);
-  void run_baseline(int n);
-#if (defined(__GNUC__) || defined(__clang__)) && (defined(__x86_64__) || defined(__i386__))
-  __attribute__((target("avx2")))
-#endif
-  void
-  run_avx2(int n);
-  // The loop itself, inlined into both of the above (compiled once per instruction set).
+  // The loop, forced inline into the baseline and the AVX2 code (batch_lanes.h, Runner).
+  friend struct detail::batch::Runner;
   template <int W>
-#if defined(__GNUC__) || defined(__clang__)
-  __attribute__((always_inline))
-#endif
-  void
-  run_impl(int n);
+  void run_impl(int n);
   /// The scalar rule of instruction i for lane j (IntervalGradRules).
   void scalar_op(int i, int j);
   /// Copies lane 0 of tape slot i (value and partials) to the lanes n..K-1, so that the unused
   /// lanes compute what lane 0 does and never leave the fast rules.
   void fill_unused(int i, int n);
 
-  const Tape* tape_;
-  std::vector<Slot> slots_;             ///< 4 per tape slot: value, d/dx, d/dy, d/dz
-  std::vector<detail::VarMask> masks_;  ///< per tape slot, the partials computed there
+  std::uint8_t partial_[K] = {};
   detail::VarMask wanted_;
   bool bare_variable_;  ///< the tape is a variable or a constant and not every partial is wanted
-  std::uint8_t partial_[K] = {};
+  const Tape* tape_;
+  std::vector<detail::VarMask> masks_;  ///< per tape slot, the partials computed there
+  std::vector<Slot> slots_;             ///< 4 per tape slot: value, d/dx, d/dy, d/dz
 };
-
-/// The lane count that measured best (docs/eval.md, "The batched interval + gradient evaluator").
-using BatchIntervalGradEval = BatchIntervalGradEvalK<8>;
 
 extern template class BatchIntervalGradEvalK<2>;
 extern template class BatchIntervalGradEvalK<4>;
 extern template class BatchIntervalGradEvalK<8>;
 extern template class BatchIntervalGradEvalK<16>;
+
+/// The lane count that measured best (docs/eval.md, "The batched interval + gradient evaluator").
+using BatchIntervalGradEval = BatchIntervalGradEvalK<8>;
 
 }  // namespace iaa

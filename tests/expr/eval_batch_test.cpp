@@ -65,29 +65,43 @@ std::uint64_t bits(double v) {
   return std::bit_cast<std::uint64_t>(v);
 }
 
-/// Evaluates `boxes` in one batch and each box with IntervalEval; reports the first difference.
-template <int K>
-::testing::AssertionResult same_as_scalar(BatchIntervalEvalK<K>& be, IntervalEval& ie,
-                                          const std::vector<IBox>& boxes) {
+/// The intervals of a result: an interval, or the value and the partials of an IGrad.
+std::vector<Interval> parts(const Interval& v) {
+  return {v};
+}
+std::vector<Interval> parts(const IGrad& r) {
+  return {r.v, r.g[0], r.g[1], r.g[2]};
+}
+
+/// Evaluates `boxes` in one batch of `be` and each box with the scalar evaluator `se`
+/// (IntervalEval, IntervalGradEval); reports the first difference.
+template <class Batch, class Scalar>
+::testing::AssertionResult same_as_scalar(Batch& be, Scalar& se, const std::vector<IBox>& boxes) {
+  constexpr int K = Batch::kLanes;
   const int n = static_cast<int>(boxes.size());
-  Interval out[K];
+  decltype(se.eval(boxes[0])) out[K];
   {
     RoundingScope scope;
     be.eval(boxes.data(), n, out);
   }
   for (int j = 0; j < n; ++j) {
-    const Interval want = ie.eval(boxes[static_cast<std::size_t>(j)]);
-    const bool want_partial = ie.partial_domain();
-    if (bits(out[j].lo()) != bits(want.lo()) || bits(out[j].hi()) != bits(want.hi()) ||
-        be.partial_domain(j) != want_partial) {
+    const auto want = parts(se.eval(boxes[static_cast<std::size_t>(j)]));
+    const bool want_partial = se.partial_domain();
+    const auto got = parts(out[j]);
+    for (std::size_t c = 0; c < want.size(); ++c) {
+      if (bits(got[c].lo()) == bits(want[c].lo()) && bits(got[c].hi()) == bits(want[c].hi()) &&
+          be.partial_domain(j) == want_partial) {
+        continue;
+      }
       const IBox& b = boxes[static_cast<std::size_t>(j)];
+      const char* what[] = {"value", "d/dx", "d/dy", "d/dz"};
       char msg[512];
       std::snprintf(msg, sizeof msg,
-                    "lane %d of %d (K=%d, %s): batch [%a, %a] partial %d, scalar [%a, %a] "
+                    "lane %d of %d (K=%d, %s), %s: batch [%a, %a] partial %d, scalar [%a, %a] "
                     "partial %d; box [%a,%a]x[%a,%a]x[%a,%a]",
-                    j, n, K, be.isa(), out[j].lo(), out[j].hi(), int(be.partial_domain(j)),
-                    want.lo(), want.hi(), int(want_partial), b.x.lo(), b.x.hi(), b.y.lo(), b.y.hi(),
-                    b.z.lo(), b.z.hi());
+                    j, n, K, be.isa(), what[c], got[c].lo(), got[c].hi(), int(be.partial_domain(j)),
+                    want[c].lo(), want[c].hi(), int(want_partial), b.x.lo(), b.x.hi(), b.y.lo(),
+                    b.y.hi(), b.z.lo(), b.z.hi());
       return ::testing::AssertionFailure() << msg << "\n" << be.tape().to_text();
     }
   }
@@ -95,17 +109,15 @@ template <int K>
 }
 
 /// Every batch size 1..K on fresh random boxes, with both instruction sets.
-template <int K>
-::testing::AssertionResult check_tape(const Tape& tape, RandomExpr& r, int rounds) {
-  BatchIntervalEvalK<K> be(tape);
-  IntervalEval ie(tape);
+template <class Batch, class Scalar>
+::testing::AssertionResult check_batches(Batch& be, Scalar& se, RandomExpr& r, int rounds) {
   for (int baseline = 0; baseline < 2; ++baseline) {
     be.use_baseline(baseline != 0);
     for (int round = 0; round < rounds; ++round) {
-      for (int n = 1; n <= K; ++n) {
+      for (int n = 1; n <= Batch::kLanes; ++n) {
         std::vector<IBox> boxes;
         for (int j = 0; j < n; ++j) boxes.push_back(random_box(r));
-        auto res = same_as_scalar<K>(be, ie, boxes);
+        auto res = same_as_scalar(be, se, boxes);
         if (!res) return res;
       }
     }
@@ -113,207 +125,167 @@ template <int K>
   return ::testing::AssertionSuccess();
 }
 
-// One expression per operation (scale and divc from products and quotients by constants, sincos
-// from sin and cos of one argument), each on endpoint-heavy boxes.
-TEST(BatchIntervalEval, EveryOperationMatchesTheScalarEvaluator) {
-  const char* kExprs[] = {
-      "x + y",   "x - y",         "x * y",  "2.5 * x",   "x * (-3)",  "x / y",
-      "x / 3",   "x / (-0.7)",    "-x",     "x^0",       "x^1",       "x^2",
-      "x^3",     "x^4",           "x^7",    "x^8",       "x^23",      "square(x)",
-      "sqrt(x)", "exp(x)",        "log(x)", "sin(x)",    "cos(x)",    "sin(x) * cos(x)",
-      "tan(x)",  "atan(x)",       "abs(x)", "min(x, y)", "max(x, y)", "pow(x, y)",
-      "x^0.5",   "x * x * y - z", "1 / x",  "x^(-2)",    "x",         "7",
-  };
-  std::set<Op> seen;
-  RandomExpr r(16);
-  for (const char* e : kExprs) {
-    const Tape tape = Tape::parse(e);
-    for (int i = tape.first_op(); i < tape.size(); ++i) seen.insert(tape.instrs()[i].op);
-    EXPECT_TRUE(check_tape<8>(tape, r, 40)) << e;
-    EXPECT_TRUE(check_tape<4>(tape, r, 10)) << e;
-  }
-  // Every operation of IAA_OPCODES that an instruction can be.
-  for (int op = static_cast<int>(Op::kAdd); op < kOpCount; ++op) {
-    EXPECT_TRUE(seen.count(static_cast<Op>(op))) << "not covered: " << info(Op(op)).text;
-  }
-}
-
-// Random expressions over every operation of the language, every batch size, K = 2, 4, 8, 16.
-TEST(BatchIntervalEval, RandomExpressionsMatchTheScalarEvaluator) {
-  const int scale = testing::property_scale();
-  RandomExpr r(1601u + static_cast<unsigned>(scale));
-  int tapes = 0;
-  while (tapes < 300 * scale) {
-    const std::string text = r.make(5);
-    if (!RandomExpr::parses(text)) continue;
-    const Tape tape = Tape::parse(text);
-    ++tapes;
-    ASSERT_TRUE(check_tape<8>(tape, r, 2));
-    if (tapes % 4 == 0) {
-      ASSERT_TRUE(check_tape<2>(tape, r, 1));
-      ASSERT_TRUE(check_tape<4>(tape, r, 1));
-      ASSERT_TRUE(check_tape<16>(tape, r, 1));
-    }
-  }
-}
-
-// Works without a RoundingScope of the caller's, as IntervalEval does.
-TEST(BatchIntervalEval, OpensItsOwnRoundingScope) {
-  const Tape tape = Tape::parse("x^3 - y * z + 0.1");
-  BatchIntervalEval be(tape);
-  IntervalEval ie(tape);
-  const IBox boxes[2] = {IBox(Interval(0.1, 0.3), Interval(-1, 2), Interval(0.7, 0.71)),
-                         IBox(Interval(-3, -2), Interval(0.5), Interval(-1, 1))};
-  Interval out[2];
-  be.eval(boxes, 2, out);
-  for (int j = 0; j < 2; ++j) {
-    const Interval want = ie.eval(boxes[j]);
-    EXPECT_EQ(bits(out[j].lo()), bits(want.lo()));
-    EXPECT_EQ(bits(out[j].hi()), bits(want.hi()));
-  }
-}
-
-// --- The interval + gradient evaluator ---
-
-/// True when a and b are the same pair of doubles.
-bool same_bits(const Interval& a, const Interval& b) {
-  return bits(a.lo()) == bits(b.lo()) && bits(a.hi()) == bits(b.hi());
-}
-
-/// Evaluates `boxes` in one batch and each box with IntervalGradEval; reports the first
-/// difference.
 template <int K>
-::testing::AssertionResult same_grad_as_scalar(BatchIntervalGradEvalK<K>& be, IntervalGradEval& ie,
-                                               const std::vector<IBox>& boxes) {
-  const int n = static_cast<int>(boxes.size());
-  IGrad out[K];
-  {
-    RoundingScope scope;
-    be.eval(boxes.data(), n, out);
-  }
-  for (int j = 0; j < n; ++j) {
-    const IGrad want = ie.eval(boxes[static_cast<std::size_t>(j)]);
-    const bool want_partial = ie.partial_domain();
-    for (int c = 0; c < 4; ++c) {
-      const Interval& got = c == 0 ? out[j].v : out[j].g[static_cast<std::size_t>(c - 1)];
-      const Interval& w = c == 0 ? want.v : want.g[static_cast<std::size_t>(c - 1)];
-      if (same_bits(got, w) && be.partial_domain(j) == want_partial) continue;
-      const IBox& b = boxes[static_cast<std::size_t>(j)];
-      char msg[512];
-      std::snprintf(msg, sizeof msg,
-                    "lane %d of %d (K=%d, %s), %s: batch [%a, %a] partial %d, scalar [%a, %a] "
-                    "partial %d; box [%a,%a]x[%a,%a]x[%a,%a]",
-                    j, n, K, be.isa(),
-                    c == 0   ? "value"
-                    : c == 1 ? "d/dx"
-                    : c == 2 ? "d/dy"
-                             : "d/dz",
-                    got.lo(), got.hi(), int(be.partial_domain(j)), w.lo(), w.hi(),
-                    int(want_partial), b.x.lo(), b.x.hi(), b.y.lo(), b.y.hi(), b.z.lo(), b.z.hi());
-      return ::testing::AssertionFailure() << msg << "\n" << be.tape().to_text();
-    }
-  }
-  return ::testing::AssertionSuccess();
+::testing::AssertionResult check_tape(const Tape& tape, RandomExpr& r, int rounds) {
+  BatchIntervalEvalK<K> be(tape);
+  IntervalEval ie(tape);
+  return check_batches(be, ie, r, rounds);
 }
 
-/// Every batch size 1..K on fresh random boxes, with both instruction sets, for the partials
-/// `wanted`.
+/// The same for the interval + gradient evaluators, with the partials `wanted`.
 template <int K>
 ::testing::AssertionResult check_grad_tape(const Tape& tape, RandomExpr& r, int rounds,
                                            detail::VarMask wanted = detail::kAllVars) {
   BatchIntervalGradEvalK<K> be(tape, wanted);
   IntervalGradEval ie(tape, wanted);
-  for (int baseline = 0; baseline < 2; ++baseline) {
-    be.use_baseline(baseline != 0);
-    for (int round = 0; round < rounds; ++round) {
-      for (int n = 1; n <= K; ++n) {
-        std::vector<IBox> boxes;
-        for (int j = 0; j < n; ++j) boxes.push_back(random_box(r));
-        auto res = same_grad_as_scalar<K>(be, ie, boxes);
-        if (!res) return res << " (wanted partials " << int(wanted) << ")";
-      }
-    }
-  }
-  return ::testing::AssertionSuccess();
+  return check_batches(be, ie, r, rounds) << " (wanted partials " << int(wanted) << ")";
 }
 
-TEST(BatchIntervalGradEval, EveryOperationMatchesTheScalarEvaluator) {
-  const char* kExprs[] = {
-      "x + y",
-      "x - y",
-      "x * y",
-      "2.5 * x",
-      "x * (-3)",
-      "x / y",
-      "x / 3",
-      "x / (-0.7)",
-      "-x",
-      "x^0",
-      "x^1",
-      "x^2",
-      "x^3",
-      "x^4",
-      "x^7",
-      "x^8",
-      "x^23",
-      "square(x)",
-      "sqrt(x)",
-      "exp(x)",
-      "log(x)",
-      "sin(x)",
-      "cos(x)",
-      "sin(x) * cos(x)",
-      "tan(x)",
-      "atan(x)",
-      "abs(x)",
-      "min(x, y)",
-      "max(x, y)",
-      "pow(x, y)",
-      "x^0.5",
-      "x * x * y - z",
-      "1 / x",
-      "x^(-2)",
-      "x",
-      "7",
-      "(x*y)^3 - square(y + z) * x",
-      "(x + y*z)^0 * z",
-      "-(x*y) / 3 + 2 * (y*z)^2",
-  };
+// One expression per operation (scale and divc from products and quotients by constants, sincos
+// from sin and cos of one argument), and a few whose partials combine several rules.
+const char* const kEveryOperation[] = {
+    "x + y",
+    "x - y",
+    "x * y",
+    "2.5 * x",
+    "x * (-3)",
+    "x / y",
+    "x / 3",
+    "x / (-0.7)",
+    "-x",
+    "x^0",
+    "x^1",
+    "x^2",
+    "x^3",
+    "x^4",
+    "x^7",
+    "x^8",
+    "x^23",
+    "square(x)",
+    "sqrt(x)",
+    "exp(x)",
+    "log(x)",
+    "sin(x)",
+    "cos(x)",
+    "sin(x) * cos(x)",
+    "tan(x)",
+    "atan(x)",
+    "abs(x)",
+    "min(x, y)",
+    "max(x, y)",
+    "pow(x, y)",
+    "x^0.5",
+    "x * x * y - z",
+    "1 / x",
+    "x^(-2)",
+    "x",
+    "7",
+    "(x*y)^3 - square(y + z) * x",
+    "(x + y*z)^0 * z",
+    "-(x*y) / 3 + 2 * (y*z)^2",
+};
+
+/// Runs `check(tape)` on each of kEveryOperation and checks that they cover every operation of
+/// IAA_OPCODES that an instruction can be.
+template <class Check>
+void check_every_operation(Check check) {
   std::set<Op> seen;
-  RandomExpr r(17);
-  for (const char* e : kExprs) {
+  for (const char* e : kEveryOperation) {
     const Tape tape = Tape::parse(e);
     for (int i = tape.first_op(); i < tape.size(); ++i) seen.insert(tape.instrs()[i].op);
-    EXPECT_TRUE(check_grad_tape<8>(tape, r, 20)) << e;
-    EXPECT_TRUE(check_grad_tape<4>(tape, r, 5)) << e;
-    for (detail::VarMask w = 0; w < detail::kAllVars; ++w) {
-      EXPECT_TRUE(check_grad_tape<8>(tape, r, 3, w)) << e;
-    }
+    SCOPED_TRACE(e);
+    check(tape);
   }
   for (int op = static_cast<int>(Op::kAdd); op < kOpCount; ++op) {
     EXPECT_TRUE(seen.count(static_cast<Op>(op))) << "not covered: " << info(Op(op)).text;
   }
 }
 
-// Random expressions over every operation of the language, every batch size, K = 2, 4, 8, 16,
-// with all partials and with each smaller set.
-TEST(BatchIntervalGradEval, RandomExpressionsMatchTheScalarEvaluator) {
+/// Runs `check(tape, r, n)` on random expressions over every operation of the language, n
+/// counting them from 1.
+template <class Check>
+void check_random_expressions(unsigned seed, int count, Check check) {
   const int scale = testing::property_scale();
-  RandomExpr r(1602u + static_cast<unsigned>(scale));
+  RandomExpr r(seed + static_cast<unsigned>(scale));
   int tapes = 0;
-  while (tapes < 200 * scale) {
+  while (tapes < count * scale) {
     const std::string text = r.make(5);
     if (!RandomExpr::parses(text)) continue;
     const Tape tape = Tape::parse(text);
-    ++tapes;
+    check(tape, r, ++tapes);
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+}
+
+// Each operation on endpoint-heavy boxes.
+TEST(BatchIntervalEval, EveryOperationMatchesTheScalarEvaluator) {
+  RandomExpr r(16);
+  check_every_operation([&](const Tape& tape) {
+    EXPECT_TRUE(check_tape<8>(tape, r, 40));
+    EXPECT_TRUE(check_tape<4>(tape, r, 10));
+  });
+}
+
+// Random expressions, every batch size, K = 2, 4, 8, 16.
+TEST(BatchIntervalEval, RandomExpressionsMatchTheScalarEvaluator) {
+  check_random_expressions(1601u, 300, [](const Tape& tape, RandomExpr& r, int n) {
+    ASSERT_TRUE(check_tape<8>(tape, r, 2));
+    if (n % 4 == 0) {
+      ASSERT_TRUE(check_tape<2>(tape, r, 1));
+      ASSERT_TRUE(check_tape<4>(tape, r, 1));
+      ASSERT_TRUE(check_tape<16>(tape, r, 1));
+    }
+  });
+}
+
+/// Checks that a batched evaluator opens its own RoundingScope, as the scalar one does.
+template <class Batch, class Scalar>
+void check_own_rounding_scope() {
+  const Tape tape = Tape::parse("x^3 - y * z + 0.1");
+  Batch be(tape);
+  Scalar se(tape);
+  const std::vector<IBox> boxes = {IBox(Interval(0.1, 0.3), Interval(-1, 2), Interval(0.7, 0.71)),
+                                   IBox(Interval(-3, -2), Interval(0.5), Interval(-1, 1))};
+  decltype(se.eval(boxes[0])) out[2];
+  be.eval(boxes.data(), 2, out);  // no RoundingScope here
+  for (std::size_t j = 0; j < 2; ++j) {
+    const auto got = parts(out[j]), want = parts(se.eval(boxes[j]));
+    for (std::size_t c = 0; c < want.size(); ++c) {
+      EXPECT_EQ(bits(got[c].lo()), bits(want[c].lo()));
+      EXPECT_EQ(bits(got[c].hi()), bits(want[c].hi()));
+    }
+  }
+}
+
+TEST(BatchIntervalEval, OpensItsOwnRoundingScope) {
+  check_own_rounding_scope<BatchIntervalEval, IntervalEval>();
+}
+
+// --- The interval + gradient evaluator ---
+
+// Each operation, with all partials and with each smaller set.
+TEST(BatchIntervalGradEval, EveryOperationMatchesTheScalarEvaluator) {
+  RandomExpr r(17);
+  check_every_operation([&](const Tape& tape) {
+    EXPECT_TRUE(check_grad_tape<8>(tape, r, 20));
+    EXPECT_TRUE(check_grad_tape<4>(tape, r, 5));
+    for (detail::VarMask w = 0; w < detail::kAllVars; ++w) {
+      EXPECT_TRUE(check_grad_tape<8>(tape, r, 3, w));
+    }
+  });
+}
+
+// Random expressions, every batch size, K = 2, 4, 8, 16, all partials and smaller sets.
+TEST(BatchIntervalGradEval, RandomExpressionsMatchTheScalarEvaluator) {
+  check_random_expressions(1602u, 200, [](const Tape& tape, RandomExpr& r, int n) {
     ASSERT_TRUE(check_grad_tape<8>(tape, r, 2));
-    ASSERT_TRUE(check_grad_tape<8>(tape, r, 1, detail::VarMask(1 + tapes % 6)));
-    if (tapes % 4 == 0) {
+    ASSERT_TRUE(check_grad_tape<8>(tape, r, 1, detail::VarMask(1 + n % 6)));
+    if (n % 4 == 0) {
       ASSERT_TRUE(check_grad_tape<2>(tape, r, 1));
       ASSERT_TRUE(check_grad_tape<4>(tape, r, 1));
       ASSERT_TRUE(check_grad_tape<16>(tape, r, 1));
     }
-  }
+  });
 }
 
 // Signed zeros: a product of intervals with 0 at an end may give -0 or +0 by the order of its
@@ -343,27 +315,15 @@ TEST(BatchIntervalGradEval, SignedZerosMatchTheScalarEvaluator) {
         for (std::size_t i = 0; i < all.size(); i += 8) {
           const std::vector<IBox> boxes(all.begin() + static_cast<std::ptrdiff_t>(i),
                                         all.begin() + static_cast<std::ptrdiff_t>(i + 8));
-          ASSERT_TRUE(same_grad_as_scalar<8>(be, ie, boxes)) << e;
+          ASSERT_TRUE(same_as_scalar(be, ie, boxes)) << e;
         }
       }
     }
   }
 }
 
-// Works without a RoundingScope of the caller's, as IntervalGradEval does.
 TEST(BatchIntervalGradEval, OpensItsOwnRoundingScope) {
-  const Tape tape = Tape::parse("x^3 - y * z + 0.1");
-  BatchIntervalGradEval be(tape);
-  IntervalGradEval ie(tape);
-  const IBox boxes[2] = {IBox(Interval(0.1, 0.3), Interval(-1, 2), Interval(0.7, 0.71)),
-                         IBox(Interval(-3, -2), Interval(0.5), Interval(-1, 1))};
-  IGrad out[2];
-  be.eval(boxes, 2, out);
-  for (int j = 0; j < 2; ++j) {
-    const IGrad want = ie.eval(boxes[j]);
-    EXPECT_TRUE(same_bits(out[j].v, want.v));
-    for (std::size_t d = 0; d < 3; ++d) EXPECT_TRUE(same_bits(out[j].g[d], want.g[d]));
-  }
+  check_own_rounding_scope<BatchIntervalGradEval, IntervalGradEval>();
 }
 
 }  // namespace
