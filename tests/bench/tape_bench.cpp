@@ -10,6 +10,7 @@
 
 #include "core/error.h"
 #include "expr/eval_batch.h"
+#include "expr/eval_batch_grad.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -63,14 +64,16 @@ void BM_IntervalEval(benchmark::State& state) {
 BENCHMARK(BM_IntervalEval);
 
 // The batched interval evaluator on the same boxes, K per pass; ns per operation per box.
-template <int K>
-void BM_BatchIntervalEval(benchmark::State& state) {
+/// A batched evaluator over 1024 boxes of the chubs scene, K at a time; Out is its result.
+template <class Batch, class Out>
+void run_batch(benchmark::State& state) {
+  constexpr int K = Batch::kLanes;
   const Tape& t = *chubs().tape;
-  BatchIntervalEvalK<K> e(t);
+  Batch e(t);
   std::vector<IBox> boxes;
   for (const Vec3& p : points(chubs().bounds, 1024)) boxes.push_back(box_at(p));
   RoundingScope scope;
-  Interval out[K];
+  Out out[K];
   for (auto _ : state) {
     for (std::size_t i = 0; i < boxes.size(); i += K) {
       e.eval(boxes.data() + i, K, out);
@@ -81,6 +84,11 @@ void BM_BatchIntervalEval(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(state.iterations()) * 1024 * t.op_count(),
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
+
+template <int K>
+void BM_BatchIntervalEval(benchmark::State& state) {
+  run_batch<BatchIntervalEvalK<K>, Interval>(state);
+}
 BENCHMARK(BM_BatchIntervalEval<4>);
 BENCHMARK(BM_BatchIntervalEval<8>);
 BENCHMARK(BM_BatchIntervalEval<16>);
@@ -90,6 +98,16 @@ void BM_IntervalGradEval(benchmark::State& state) {
                              [](IntervalGradEval& e, const Vec3& p) { return e.eval(box_at(p)); });
 }
 BENCHMARK(BM_IntervalGradEval);
+
+// The batched interval + gradient evaluator on the same boxes, K at a time (ns per operation per
+// box, as BM_BatchIntervalEval).
+template <int K>
+void BM_BatchIntervalGradEval(benchmark::State& state) {
+  run_batch<BatchIntervalGradEvalK<K>, IGrad>(state);
+}
+BENCHMARK(BM_BatchIntervalGradEval<4>);
+BENCHMARK(BM_BatchIntervalGradEval<8>);
+BENCHMARK(BM_BatchIntervalGradEval<16>);
 
 // The cost of the per-operation rounding-mode switch that RoundingScope avoids.
 void BM_IntervalMulWithModeSwitch(benchmark::State& state) {

@@ -2,8 +2,9 @@
 // sextic expressions (read from their scenes in data/scenes), next to the same expressions
 // hand-written in plain double arithmetic and compiled natively, all measured in the same run,
 // and the throughput (tape operations per second on one core). Medians of several runs; the peak
-// resident memory of the measurement (bench.h, PeakMemory). The batched interval evaluator
-// (expr/eval_batch.h) evaluates the same boxes K at a time; its time is per operation per box.
+// resident memory of the measurement (bench.h, PeakMemory). The batched interval and interval +
+// gradient evaluators (expr/eval_batch.h, expr/eval_batch_grad.h) evaluate the same boxes K at a
+// time; their times are per operation per box.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include "app/scene_loading.h"
 #include "core/error.h"
 #include "expr/eval_batch.h"
+#include "expr/eval_batch_grad.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -72,7 +74,7 @@ double median_seconds(int runs, const std::function<void()>& f) {
 struct Options {
   int points = 20000;
   int runs = 7;
-  int lanes = 8;      ///< boxes per batch of the batched evaluator: 4, 8 or 16
+  int lanes = 8;      ///< boxes per batch of the batched evaluators: 4, 8 or 16
   bool sse2 = false;  ///< the batched evaluator runs its baseline code even where AVX2 is there
   std::string scene_dir;
   std::string json;
@@ -114,8 +116,9 @@ std::vector<Scene> load_scenes(const Options& o) {
 
 /// Median seconds of one batch of evaluations, per evaluator.
 struct Times {
-  double native = 0, point = 0, interval = 0, point_grad = 0, interval_grad = 0, batch = 0;
-  const char* batch_isa = "";    ///< the batched evaluator's instruction set
+  double native = 0, point = 0, interval = 0, point_grad = 0, interval_grad = 0, batch = 0,
+         batch_grad = 0;
+  const char* batch_isa = "";    ///< the batched evaluators' instruction set
   std::uint64_t peak_bytes = 0;  ///< the peak resident memory of all the evaluators' runs
   bool peak_exact = true;        ///< the peak was this surface's (PeakMemory::exact)
 };
@@ -127,11 +130,21 @@ IBox box_at(const Vec3& p) {
 
 /// Times every evaluator on the same points; each sums its results into g_sink so that the
 /// compiler cannot drop the work.
-/// Median seconds of the batched evaluator over the boxes of `pts`, K at a time.
-template <int K>
+/// What the timed loops sum: the upper bound of an interval, or of the first partial.
+double sink_of(const Interval& v) {
+  return v.hi();
+}
+double sink_of(const IGrad& r) {
+  return r.g[0].hi();
+}
+
+/// Median seconds of a batched evaluator (BatchIntervalEvalK, BatchIntervalGradEvalK) over the
+/// boxes of `pts`, K at a time; Out is its result (Interval, IGrad).
+template <class Batch, class Out>
 double measure_batch(const Tape& tape, const std::vector<Vec3>& pts, int runs, bool sse2,
                      const char** isa) {
-  BatchIntervalEvalK<K> be(tape);
+  constexpr int K = Batch::kLanes;
+  Batch be(tape);
   be.use_baseline(sse2);
   *isa = be.isa();
   std::vector<IBox> boxes;
@@ -140,14 +153,23 @@ double measure_batch(const Tape& tape, const std::vector<Vec3>& pts, int runs, b
   return median_seconds(runs, [&] {
     RoundingScope scope;
     double acc = 0;
-    Interval out[K];
+    Out out[K];
     for (int i = 0; i < n; i += K) {
       const int m = std::min(K, n - i);
       be.eval(boxes.data() + i, m, out);
-      for (int j = 0; j < m; ++j) acc += out[j].hi();
+      for (int j = 0; j < m; ++j) acc += sink_of(out[j]);
     }
     g_sink = acc;
   });
+}
+
+/// measure_batch for the lane count of --lanes.
+template <template <int> class Batch, class Out>
+double measure_lanes(const Tape& tape, const std::vector<Vec3>& pts, int runs, const Options& o,
+                     const char** isa) {
+  return o.lanes == 4    ? measure_batch<Batch<4>, Out>(tape, pts, runs, o.sse2, isa)
+         : o.lanes == 16 ? measure_batch<Batch<16>, Out>(tape, pts, runs, o.sse2, isa)
+                         : measure_batch<Batch<8>, Out>(tape, pts, runs, o.sse2, isa);
 }
 
 Times measure(const Surface& s, const Tape& tape, const std::vector<Vec3>& pts, int runs,
@@ -185,24 +207,25 @@ Times measure(const Surface& s, const Tape& tape, const std::vector<Vec3>& pts, 
     for (const Vec3& p : pts) acc += ig.eval(box_at(p)).g[0].hi();
     g_sink = acc;
   });
-  t.batch = o.lanes == 4    ? measure_batch<4>(tape, pts, runs, o.sse2, &t.batch_isa)
-            : o.lanes == 16 ? measure_batch<16>(tape, pts, runs, o.sse2, &t.batch_isa)
-                            : measure_batch<8>(tape, pts, runs, o.sse2, &t.batch_isa);
+  t.batch = measure_lanes<BatchIntervalEvalK, Interval>(tape, pts, runs, o, &t.batch_isa);
+  t.batch_grad = measure_lanes<BatchIntervalGradEvalK, IGrad>(tape, pts, runs, o, &t.batch_isa);
   t.peak_bytes = memory.peak_bytes();
   t.peak_exact = memory.exact();
   return t;
 }
 
 void print_header(int lanes) {
-  char target[16], btarget[16], batch[16];
+  char target[16], btarget[16], batch[16], bgrad[16];
   std::snprintf(target, sizeof target, "<= %gx", kIntervalOverPointTarget);
   std::snprintf(btarget, sizeof btarget, "<= %gx", kBatchOverPointTarget);
   std::snprintf(batch, sizeof batch, "batch %d", lanes);
-  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s %9s  %-7s %9s\n", "surface",
-              "ops", "native", "point", "interval", "pt+grad", "iv+grad", "iv/point", "target",
-              batch, "bt/point", "target", "peak MiB");
-  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s %9s  %-7s\n", "", "", "ns/op",
-              "ns/op", "ns/op", "ns/op", "ns/op", "ratio", target, "ns/op", "ratio", btarget);
+  std::snprintf(bgrad, sizeof bgrad, "bgrad %d", lanes);
+  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s %9s  %-7s %9s %9s %9s %9s\n",
+              "surface", "ops", "native", "point", "interval", "pt+grad", "iv+grad", "iv/point",
+              "target", batch, "bt/point", "target", bgrad, "bg/ivgrad", "bg/point", "peak MiB");
+  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s %9s  %-7s %9s %9s %9s\n", "", "",
+              "ns/op", "ns/op", "ns/op", "ns/op", "ns/op", "ratio", target, "ns/op", "ratio",
+              btarget, "ns/op", "ratio", "ratio");
 }
 
 /// Prints the line of one surface and returns its JSON record; times become ns per operation.
@@ -213,11 +236,14 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
   const bool within = ratio <= kIntervalOverPointTarget;
   const double bratio = t.batch / t.point;
   const bool bwithin = bratio <= kBatchOverPointTarget;
+  const double bg_ratio = t.batch_grad / t.interval_grad, bg_point = t.batch_grad / t.point;
   std::printf(
-      "%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %-7s %9.2f %9.2f  %-7s %8.1f%s\n",
+      "%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %-7s %9.2f %9.2f  %-7s %9.2f %9.2f "
+      "%9.2f %8.1f%s\n",
       s.scene, tape.op_count(), ns(t.native), ns(t.point), ns(t.interval), ns(t.point_grad),
       ns(t.interval_grad), ratio, within ? "within" : "MISSED", ns(t.batch), bratio,
-      bwithin ? "within" : "MISSED", mib(t.peak_bytes), t.peak_exact ? "" : "*");
+      bwithin ? "within" : "MISSED", ns(t.batch_grad), bg_ratio, bg_point, mib(t.peak_bytes),
+      t.peak_exact ? "" : "*");
   return {{"surface", s.scene},
           {"tape_ops", tape.op_count()},
           {"evaluations", o.points},
@@ -228,13 +254,15 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
             {"interval", ns(t.interval)},
             {"point_grad", ns(t.point_grad)},
             {"interval_grad", ns(t.interval_grad)},
-            {"interval_batch", ns(t.batch)}}},
+            {"interval_batch", ns(t.batch)},
+            {"interval_grad_batch", ns(t.batch_grad)}}},
           {"ops_per_second_per_core",
            {{"point", 1e9 / ns(t.point)},
             {"interval", 1e9 / ns(t.interval)},
             {"point_grad", 1e9 / ns(t.point_grad)},
             {"interval_grad", 1e9 / ns(t.interval_grad)},
-            {"interval_batch", 1e9 / ns(t.batch)}}},
+            {"interval_batch", 1e9 / ns(t.batch)},
+            {"interval_grad_batch", 1e9 / ns(t.batch_grad)}}},
           {"interval_over_point", ratio},
           {"interval_over_point_target", kIntervalOverPointTarget},
           {"within_target", within},
@@ -243,6 +271,8 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
           {"batch_over_point", bratio},
           {"batch_over_point_target", kBatchOverPointTarget},
           {"batch_within_target", bwithin},
+          {"batch_grad_over_interval_grad", bg_ratio},
+          {"batch_grad_over_point", bg_point},
           {"peak_rss_mib", mib(t.peak_bytes)},
           {"peak_rss_per_run", t.peak_exact}};
 }
@@ -258,20 +288,22 @@ void run(const Options& o) {
     out.push_back(report(kSurfaces[i], tape, t, o));
   }
   // Throughput: tape operations per second on one core (the runs are single-threaded).
-  std::printf("\n%-13s %12s %12s %12s %12s %12s\n", "throughput", "point", "interval", "pt+grad",
-              "iv+grad", "batch");
-  std::printf("%-13s %12s %12s %12s %12s %12s\n", "", "Mop/s/core", "Mop/s/core", "Mop/s/core",
-              "Mop/s/core", "Mop/s/core");
+  std::printf("\n%-13s %12s %12s %12s %12s %12s %12s\n", "throughput", "point", "interval",
+              "pt+grad", "iv+grad", "batch", "bgrad");
+  std::printf("%-13s %12s %12s %12s %12s %12s %12s\n", "", "Mop/s/core", "Mop/s/core", "Mop/s/core",
+              "Mop/s/core", "Mop/s/core", "Mop/s/core");
   for (const nlohmann::json& r : out) {
     const auto mops = [&](const char* k) { return 1e3 / r["ns_per_op"][k].get<double>(); };
-    std::printf("%-13s %12.0f %12.0f %12.0f %12.0f %12.0f\n",
+    std::printf("%-13s %12.0f %12.0f %12.0f %12.0f %12.0f %12.0f\n",
                 r["surface"].get<std::string>().c_str(), mops("point"), mops("interval"),
-                mops("point_grad"), mops("interval_grad"), mops("interval_batch"));
+                mops("point_grad"), mops("interval_grad"), mops("interval_batch"),
+                mops("interval_grad_batch"));
   }
   std::printf(
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"
       "'batch %d': the batched interval evaluator (%s), %d boxes per pass, ns per operation per "
-      "box\n"
+      "box; 'bgrad': the batched interval + gradient evaluator, the same way (bg/ivgrad: its time "
+      "over iv+grad's)\n"
       "target: interval within %gx of point evaluation per operation, batch within %gx\n%s\n",
       o.runs, o.points, o.lanes, out.empty() ? "" : out[0]["batch_isa"].get<std::string>().c_str(),
       o.lanes, kIntervalOverPointTarget, kBatchOverPointTarget, kPeakNote);
@@ -283,10 +315,10 @@ void setup(CLI::App& app) {
   app.add_option("--points", o->points, "evaluations per run")->check(CLI::Range(100, 10'000'000));
   app.add_option("--runs", o->runs, "runs per measurement (the median is reported)")
       ->check(CLI::Range(1, 101));
-  app.add_option("--lanes", o->lanes, "boxes per pass of the batched interval evaluator")
+  app.add_option("--lanes", o->lanes, "boxes per pass of the batched evaluators")
       ->check(CLI::IsMember({4, 8, 16}));
   app.add_flag("--sse2", o->sse2,
-               "run the batched evaluator's baseline (SSE2) code even where AVX2 is there");
+               "run the batched evaluators' baseline (SSE2) code even where AVX2 is there");
   add_scene_dir_option(app, &o->scene_dir);
   app.add_option("--json", o->json, "also write the figures as JSON to this file");
   app.footer("Examples:\n  iaa bench tape\n  iaa bench tape --points 100000 --json tape.json");
