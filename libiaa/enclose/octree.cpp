@@ -25,6 +25,7 @@
 #include "core/error.h"
 #include "core/spread.h"
 #include "expr/eval_batch.h"
+#include "expr/eval_batch_grad.h"
 #include "expr/specialize.h"
 
 namespace iaa {
@@ -82,10 +83,13 @@ struct Expansion {
   }
 };
 
-/// F over a cell evaluated ahead of its visit, and whether it met a partial domain.
+/// F over a cell evaluated ahead of its visit, and whether it met a partial domain; with
+/// `has_grad`, its gradient `grad` as well (grad.v is then f).
 struct Evaluated {
   Interval f;
   bool partial = false;
+  bool has_grad = false;
+  IGrad grad;
 };
 
 /// The split level is the first level with at least kMinSubtrees candidate cells, and at least
@@ -225,7 +229,10 @@ class SubtreeWorker {
     // The batch evaluates with the whole tape, and makes no regions: where the tape has min or
     // max, the specializing evaluator's regions (and with them the signs of zero gradient
     // bounds, specialize.h) would depend on it, so it is used only where there are none.
-    if (!sh.tape->has_min_max()) batch_.emplace(*sh.tape);
+    if (!sh.tape->has_min_max()) {
+      batch_.emplace(*sh.tape);
+      batch_grad_.emplace(*sh.tape);
+    }
   }
 
   /// Starts the subtree of cell (idx, d): empties the corner cache, the leaves and the counts, so
@@ -247,7 +254,8 @@ class SubtreeWorker {
   /// corner of this cell and its gradient encloses the gradient over this cell, so it bounds f here
   /// with no evaluation at all, about as tightly as this cell's own expansion would. `pre`, when
   /// given, is F over this cell and its partial-domain flag, evaluated already (with the cell's
-  /// siblings, by the batched evaluator: the same interval as se_.eval gives).
+  /// siblings, by a batched evaluator: the same interval as se_.eval gives), and perhaps its
+  /// gradient (the same as se_.eval_grad gives).
   void visit(const Index& idx, int d, const Expansion* parent, const Evaluated* pre = nullptr) {
     if (sh_.over_limit.load(std::memory_order_relaxed) ||
         sh_.cancelled.load(std::memory_order_relaxed)) {
@@ -293,8 +301,9 @@ class SubtreeWorker {
           return;
         }
       }
-      const IGrad r = se_.eval_grad(box);
-      partial = se_.partial_domain();
+      const bool pre_grad = pre && pre->has_grad;
+      const IGrad r = pre_grad ? pre->grad : se_.eval_grad(box);
+      partial = pre_grad ? pre->partial : se_.partial_domain();
       f = intersect(f, r.v);
       if (!partial && !f.contains_zero()) ++own_rejects_;
       if (partial || !f.contains_zero()) return;
@@ -369,14 +378,19 @@ class SubtreeWorker {
     const auto child = [&](std::uint32_t c) {
       return Index{2 * idx[0] + (c & 1), 2 * idx[1] + ((c >> 1) & 1), 2 * idx[2] + ((c >> 2) & 1)};
     };
-    // Where the children's own evaluations will take the natural interval value (no mean-value
-    // form, or own() trying values first), the children that the parent's expansion does not
-    // reject are evaluated together, in one pass of the batched evaluator. A child whose own()
-    // then takes the gradient instead (the counts changed on the way) leaves its value unused;
-    // the values, the counts and so the leaves are the same as with one evaluation per child.
+    // The children that the parent's expansion does not reject are evaluated together, in one
+    // pass of a batched evaluator: with their gradients where their own evaluations will take
+    // the mean-value form (and those of leaves only where no parent expansion may spare them by
+    // their corners' signs), else their natural interval values (no mean-value form, or own()
+    // trying values first). A child whose own() then takes the other path (the counts changed on
+    // the way) evaluates again or leaves the value unused; the values, the gradients (the same
+    // intervals as se_'s, whose tape has no min or max here), the counts and so the leaves are
+    // the same as with one evaluation per child.
     Evaluated pre[8];
     bool have_pre = false;
-    if (batch_ && (!sh_.centered_form || values_first())) {
+    const bool values = !sh_.centered_form || values_first();
+    const bool grads = !values && (d + 1 < sh_.depth || !g);
+    if (batch_ && (values || grads)) {
       IBox boxes[8];
       std::uint32_t which[8];
       int n = 0;
@@ -385,10 +399,17 @@ class SubtreeWorker {
         which[n] = c;
         boxes[n++] = cell_ibox(child(c), d + 1);
       }
-      if (n > 0) {
+      if (n > 0 && values) {
         Interval v[8];
         batch_->eval(boxes, n, v);
-        for (int j = 0; j < n; ++j) pre[which[j]] = {v[j], batch_->partial_domain(j)};
+        for (int j = 0; j < n; ++j) pre[which[j]] = {v[j], batch_->partial_domain(j), false, {}};
+        have_pre = true;
+      } else if (n > 0) {
+        IGrad r[8];
+        batch_grad_->eval(boxes, n, r);
+        for (int j = 0; j < n; ++j) {
+          pre[which[j]] = {r[j].v, batch_grad_->partial_domain(j), true, r[j]};
+        }
         have_pre = true;
       }
     }
@@ -502,6 +523,7 @@ class SubtreeWorker {
   Shared& sh_;
   SpecializingEval se_;  ///< cells inside a cell that decided a min/max run the pruned tape
   std::optional<BatchIntervalEval> batch_;  ///< a cell's children at once (tapes without min/max)
+  std::optional<BatchIntervalGradEval> batch_grad_;  ///< the same, with their gradients
   CornerCache cache_;
   std::vector<Cell> cells_;
   std::uint64_t evaluations_ = 0;
