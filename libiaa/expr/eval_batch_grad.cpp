@@ -83,30 +83,35 @@ IAA_ALWAYS_INLINE void BatchIntervalGradEvalK<K>::run_impl(int n) {
         break;
       // The linear operations: the same rule for the value and the partials.
       case Op::kAdd:
-        each([&](const I& x, const I& y, int, int) { return L::add(x, y, bad); });
+        each([&](const I& x, const I& y, int, int)
+                 __attribute__((always_inline)) { return L::add(x, y, bad); });
         break;
       case Op::kSub:
-        each([&](const I& x, const I& y, int, int) { return L::sub(x, y, bad); });
+        each([&](const I& x, const I& y, int, int)
+                 __attribute__((always_inline)) { return L::sub(x, y, bad); });
         break;
       case Op::kScale:
-        each([&, cv = k[in.b]](const I& x, const I&, int, int) { return L::scale(x, cv); });
+        each([&, cv = k[in.b] ](const I& x, const I&, int, int)
+                 __attribute__((always_inline)) { return L::scale(x, cv); });
         break;
       case Op::kDivConst:
-        each([&, cv = k[in.b]](const I& x, const I&, int, int) { return L::div_const(x, cv); });
+        each([&, cv = k[in.b] ](const I& x, const I&, int, int)
+                 __attribute__((always_inline)) { return L::div_const(x, cv); });
         break;
       case Op::kNeg:
-        each([&](const I& x, const I&, int, int) { return L::neg(x); });
+        each([&](const I& x, const I&, int, int)
+                 __attribute__((always_inline)) { return L::neg(x); });
         break;
       case Op::kMul:
         // a' * b + b' * a, in this order (IntervalGradRules::mul).
-        each([&](const I& x, const I& y, int d, int c) {
+        each([&](const I& x, const I& y, int d, int c) __attribute__((always_inline)) {
           if (d == 0) return L::mul(x, y, bad);
           return L::add(L::mul(x, ld(b[0], c), bad), L::mul(y, ld(a[0], c), bad), bad);
         });
         break;
       case Op::kSquare:
         // a' * (2 a) (IntervalGradRules::square).
-        each([&](const I& x, const I&, int d, int c) {
+        each([&](const I& x, const I&, int d, int c) __attribute__((always_inline)) {
           if (d == 0) return L::square(x, bad);
           return L::mul(x, L::scale(ld(a[0], c), 2.0), bad);
         });
@@ -114,7 +119,7 @@ IAA_ALWAYS_INLINE void BatchIntervalGradEvalK<K>::run_impl(int n) {
       case Op::kPowInt:
         // a' * (n a^(n-1)) (IntervalGradRules::pow_int); for n = 0 the constant 1 (its value
         // and partials whatever the argument).
-        each([&, p = in.power](const I& x, const I&, int d, int c) {
+        each([&, p = in.power ](const I& x, const I&, int d, int c) __attribute__((always_inline)) {
           if (p == 0)
             return d == 0 ? I{L::splat(1.0), L::splat(1.0)} : I{L::splat(0.0), L::splat(0.0)};
           if (d == 0) return L::pow_int(x, p, bad);
