@@ -302,11 +302,12 @@ void run(const Options& o) {
   std::printf(
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"
       "'batch %d': the batched interval evaluator (%s), %d boxes per pass, ns per operation per "
-      "box; 'bgrad': the batched interval + gradient evaluator, the same way (bg/ivgrad: its time "
-      "over iv+grad's)\n"
+      "box\n"
+      "'bgrad %d': the batched interval + gradient evaluator, the same way (bg/ivgrad: over "
+      "iv+grad)\n"
       "target: interval within %gx of point evaluation per operation, batch within %gx\n%s\n",
       o.runs, o.points, o.lanes, out.empty() ? "" : out[0]["batch_isa"].get<std::string>().c_str(),
-      o.lanes, kIntervalOverPointTarget, kBatchOverPointTarget, kPeakNote);
+      o.lanes, o.lanes, kIntervalOverPointTarget, kBatchOverPointTarget, kPeakNote);
   if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
 }
 
