@@ -128,27 +128,6 @@ double widen_up(double v, int n) {
   return std::isfinite(r) ? next_up(r) : r;
 }
 
-double Interval::mid() const {
-  if (is_empty()) return std::numeric_limits<double>::quiet_NaN();
-  if (lo_ == -kInf && hi_ == kInf) return 0.0;
-  if (lo_ == -kInf) return hi_ > 0.0 ? 0.0 : hi_;
-  if (hi_ == kInf) return lo_ < 0.0 ? 0.0 : lo_;
-  const double m = lo_ + 0.5 * (hi_ - lo_);
-  return std::clamp(m, lo_, hi_);
-}
-
-Interval hull(const Interval& a, const Interval& b) {
-  if (a.is_empty()) return b;
-  if (b.is_empty()) return a;
-  return Interval::raw(std::min(a.lo(), b.lo()), std::max(a.hi(), b.hi()));
-}
-
-Interval intersect(const Interval& a, const Interval& b) {
-  const double lo = std::max(a.lo(), b.lo());
-  const double hi = std::min(a.hi(), b.hi());
-  return lo <= hi ? Interval::raw(lo, hi) : Interval::empty();
-}
-
 Interval detail::mul_general(const Interval& a, const Interval& b) {
   if (a.is_empty() || b.is_empty()) return Interval::empty();
   // A factor that is exactly 0 makes the product 0 even when the other factor is unbounded

@@ -184,9 +184,28 @@ class Interval {
 static_assert(sizeof(Interval) == 2 * sizeof(double), "Interval::store writes lo and hi at once");
 
 /// Hull of two intervals (empty is the neutral element).
-Interval hull(const Interval& a, const Interval& b);
+inline Interval hull(const Interval& a, const Interval& b) {
+  if (a.is_empty()) return b;
+  if (b.is_empty()) return a;
+  return Interval::raw(std::min(a.lo(), b.lo()), std::max(a.hi(), b.hi()));
+}
 /// Intersection (may be empty).
-Interval intersect(const Interval& a, const Interval& b);
+inline Interval intersect(const Interval& a, const Interval& b) {
+  const double lo = std::max(a.lo(), b.lo());
+  const double hi = std::min(a.hi(), b.hi());
+  return lo <= hi ? Interval::raw(lo, hi) : Interval::empty();
+}
+
+// Inline (the renderer's searches call it on every piece): the midpoint of a finite interval,
+// clamped into it (lo + (hi - lo) / 2 may round past hi), and a point of an unbounded one.
+inline double Interval::mid() const {
+  if (is_empty()) return std::numeric_limits<double>::quiet_NaN();
+  if (lo_ == -kInf && hi_ == kInf) return 0.0;
+  if (lo_ == -kInf) return hi_ > 0.0 ? 0.0 : hi_;
+  if (hi_ == kInf) return lo_ < 0.0 ? 0.0 : lo_;
+  const double m = lo_ + 0.5 * (hi_ - lo_);
+  return std::clamp(m, lo_, hi_);
+}
 
 // Arithmetic. All need a RoundingScope. The hot ones are inline so that the tape loop can
 // inline them (they are most of its time).
