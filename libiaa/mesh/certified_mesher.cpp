@@ -30,6 +30,7 @@
 #include "core/spread.h"
 #include "enclose/octree.h"
 #include "expr/eval_batch.h"
+#include "expr/eval_batch_grad.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -167,18 +168,33 @@ class ProofCache {
 /// Per-thread evaluators.
 struct Evaluators {
   Evaluators(const Tape& t, bool proof_cache)
-      : proofs(proof_cache), f(t), batch(t), g(t), p(t), pg(t) {
+      : proofs(proof_cache), f(t), batch(t), g(t), batch_g(t), p(t), pg(t) {
     partials.reserve(6);  // the evaluators keep their addresses
     for (int wanted = 1; wanted < 7; ++wanted) partials.emplace_back(t, detail::VarMask(wanted));
+    quarters.reserve(3);
+    halves.reserve(3);
+    for (int a = 0; a < 3; ++a) {
+      quarters.emplace_back(t, detail::VarMask(7 & ~(1 << a)));
+      halves.emplace_back(t, detail::VarMask(1 << a));
+    }
   }
   ProofCache proofs;
   IntervalEval f;
   /// The 8 children of a split cell: their values, and f at their centres (Refiner::refine()).
   BatchIntervalEval batch;
   IntervalGradEval g;
+  /// The gradients of a cell's 8 children: tighten(), and the children that evaluate their own
+  /// (Refiner::evaluate_children). The same doubles as `g`, box by box (no min/max choices are
+  /// recorded, and the mesher specializes no tape).
+  BatchIntervalGradEval batch_g;
   /// For faces and edges: index wanted - 1 computes only the partials along the axes in
   /// `wanted` (the axes a face or an edge extends along, the only ones their proofs read).
   std::vector<IntervalGradEval> partials;
+  /// The 4 quarters of a piece of a face normal to axis a (quarters[a]) and the 2 halves of a
+  /// piece of an edge along axis a (halves[a]), each in one batch, with the partials `partials`
+  /// computes for them: the same doubles.
+  std::vector<BatchIntervalGradEvalK<4>> quarters;
+  std::vector<BatchIntervalGradEvalK<2>> halves;
   bool flat_partial = false;  ///< the last eval_flat_natural met domain trouble
   PointEval p;
   PointGradEval pg;
@@ -265,6 +281,25 @@ IGrad eval_flat(Evaluators& e, const Box3& b, int flat) {
   if (e.flat_partial) return g;
   g.v = tightened(e, b, flat, g);
   return g;
+}
+
+/// A piece's eval_flat_natural, made in a batch with its siblings' before it is used (and counted
+/// when it is), and whether it met domain trouble.
+struct Evaluated {
+  IGrad g;
+  bool partial = false;
+};
+
+/// The natural evaluation of a proof's piece: `pre`, counted now, when it was batched; else
+/// eval_flat_natural. False where it met domain trouble.
+bool piece_grad(Evaluators& e, const Box3& piece, int flat, const Evaluated* pre, IGrad& g) {
+  if (!pre) {
+    g = eval_flat_natural(e, piece, flat);
+    return !e.flat_partial;
+  }
+  ++e.evaluations;
+  g = pre->g;
+  return !pre->partial;
 }
 
 /// How many times a face or an edge whose whole-box test fails is halved along each of its axes
@@ -376,11 +411,17 @@ struct ProofPieces {
 /// monotone nor zero-free.
 /// `known`: the whole edge's evaluation, its value tightened already (eval_flat); the pieces' are
 /// tightened only where their zeros decide (ProofPieces).
+/// `pre`: the piece's natural evaluation, batched with its sibling's.
 bool edge_pieces(Evaluators& e, const Box3& piece, int axis, unsigned ends, int splits,
-                 ProofPieces& zero_free_pieces, const IGrad* known = nullptr) {
+                 ProofPieces& zero_free_pieces, const IGrad* known = nullptr,
+                 const Evaluated* pre = nullptr) {
   const int flat = 7 & ~(1 << axis);
-  const IGrad g = known ? *known : eval_flat_natural(e, piece, flat);
-  if (e.flat_partial) return false;
+  IGrad g;
+  if (known) {
+    g = *known;  // made without domain trouble
+  } else if (!piece_grad(e, piece, flat, pre, g)) {
+    return false;
+  }
   if (!g.g[std::size_t(axis)].contains_zero()) {
     zero_free_pieces.add_maybe(piece, g, known);
     return true;
@@ -400,8 +441,13 @@ bool edge_pieces(Evaluators& e, const Box3& piece, int axis, unsigned ends, int 
   const double mid = 0.5 * (piece.lo[axis] + piece.hi[axis]);
   Box3 lo = piece, hi = piece;
   lo.hi[axis] = hi.lo[axis] = mid;
-  return edge_pieces(e, lo, axis, ends & 1u, splits - 1, zero_free_pieces) &&
-         edge_pieces(e, hi, axis, ends & 2u, splits - 1, zero_free_pieces);
+  const std::array<IBox, 2> boxes{flat_box(lo, flat), flat_box(hi, flat)};
+  std::array<IGrad, 2> out;
+  auto& batch = e.halves[std::size_t(axis)];
+  batch.eval(boxes.data(), 2, out.data());
+  const Evaluated half[2] = {{out[0], batch.partial_domain(0)}, {out[1], batch.partial_domain(1)}};
+  return edge_pieces(e, lo, axis, ends & 1u, splits - 1, zero_free_pieces, nullptr, &half[0]) &&
+         edge_pieces(e, hi, axis, ends & 2u, splits - 1, zero_free_pieces, nullptr, &half[1]);
 }
 
 /// f has no zero on the edge box, or is monotone along it: its derivative along `axis` keeps one
@@ -436,11 +482,17 @@ bool edge_ok(Evaluators& e, const Box3& edge, int axis) {
 /// without zeros, so they stay inside D, which meets the face's boundary nowhere but on C. So
 /// pieces that pass, covering the face, leave no place for p. False when a piece of the finest
 /// split is neither free of critical points nor of zeros.
+/// `pre`: the piece's natural evaluation, batched with its siblings'.
 bool face_pieces(Evaluators& e, const Box3& piece, int a, unsigned sides, int splits,
-                 ProofPieces& zero_free_pieces, const IGrad* known = nullptr) {
+                 ProofPieces& zero_free_pieces, const IGrad* known = nullptr,
+                 const Evaluated* pre = nullptr) {
   const std::size_t u = std::size_t((a + 1) % 3), v = std::size_t((a + 2) % 3);
-  const IGrad g = known ? *known : eval_flat_natural(e, piece, 1 << a);
-  if (e.flat_partial) return false;
+  IGrad g;
+  if (known) {
+    g = *known;  // made without domain trouble
+  } else if (!piece_grad(e, piece, 1 << a, pre, g)) {
+    return false;
+  }
   if ((square(g.g[u]) + square(g.g[v])).lo() > 0.0) {
     zero_free_pieces.add_maybe(piece, g, known);
     return true;
@@ -458,13 +510,26 @@ bool face_pieces(Evaluators& e, const Box3& piece, int a, unsigned sides, int sp
     }
   }
   const double mu = 0.5 * (piece.lo[u] + piece.hi[u]), mv = 0.5 * (piece.lo[v] + piece.hi[v]);
+  std::array<Box3, 4> q;
+  std::array<IBox, 4> boxes;
   for (unsigned k = 0; k < 4; ++k) {
-    Box3 q = piece;
-    (k & 1 ? q.lo[u] : q.hi[u]) = mu;
-    (k & 2 ? q.lo[v] : q.hi[v]) = mv;
+    q[k] = piece;
+    (k & 1 ? q[k].lo[u] : q[k].hi[u]) = mu;
+    (k & 2 ? q[k].lo[v] : q[k].hi[v]) = mv;
+    boxes[k] = flat_box(q[k], 1 << a);
+  }
+  // The quarters' evaluations in one batch; a quarter not reached (an earlier one failed) leaves
+  // its own unused and uncounted.
+  std::array<IGrad, 4> out;
+  auto& batch = e.quarters[std::size_t(a)];
+  batch.eval(boxes.data(), 4, out.data());
+  for (unsigned k = 0; k < 4; ++k) {
     // The quarter keeps the sides of the face on which it lies: its lower or upper one per axis.
     const unsigned kept = (k & 1 ? 2u : 1u) | (k & 2 ? 8u : 4u);
-    if (!face_pieces(e, q, a, sides & kept, splits - 1, zero_free_pieces)) return false;
+    const Evaluated pre_k{out[k], batch.partial_domain(int(k))};
+    if (!face_pieces(e, q[k], a, sides & kept, splits - 1, zero_free_pieces, nullptr, &pre_k)) {
+      return false;
+    }
   }
   return true;
 }
@@ -594,6 +659,19 @@ bool locally_certified(Evaluators& e, const Box3& b, const Index3& at, std::uint
   return true;
 }
 
+/// What a split cell evaluated for one of its children in a batch of 8 (Refiner::refine()): the
+/// bit-for-bit results classify() would get from its own evaluations, counted when it uses them.
+struct ChildValues {
+  Interval f;  ///< f over the child's box
+  bool f_partial = false;
+  bool has_centre = false;  ///< f at the child's centre too
+  Interval centre;
+  bool centre_partial = false;
+  bool has_grad = false;  ///< the child's gradient enclosure too
+  IGrad grad;
+  bool grad_partial = false;
+};
+
 /// A piece of phase 1 over a list of cells when processes share it (refine_spread()): a leaf that
 /// the top levels already made, or a subtree left to refine, with the gradient enclosures that
 /// its parent hands down (Refiner::refine()'s `parent` and `own`).
@@ -605,16 +683,8 @@ struct Subtree {
   bool has_parent, has_own;
   IGrad parent, own;
   bool tighten_first = false;  ///< Refiner::refine()'s `tighten_first`
-};
-
-/// What a split cell evaluated for one of its children in a batch of 8 (Refiner::refine()): the
-/// bit-for-bit results classify() would get from its own evaluations, counted when it uses them.
-struct ChildValues {
-  Interval f;  ///< f over the child's box
-  bool f_partial = false;
-  bool has_centre = false;  ///< f at the child's centre too
-  Interval centre;
-  bool centre_partial = false;
+  bool has_values = false;     ///< what its parent evaluated for it (Refiner::refine()'s `values`)
+  ChildValues values;
 };
 
 /// Phase 1: refines one cell into leaves (depth-first order).
@@ -638,7 +708,7 @@ class Refiner {
       return emit(e, out, *l);
     }
     std::array<ChildValues, 8> v;
-    evaluate_children(e, at, depth, smooth, v);
+    evaluate_children(e, at, depth, smooth ? &g : nullptr, kids.valid, v);
     for (std::size_t k = 0; k < 8; ++k) {
       refine(e, child(at, depth, int(k)), depth + 1, out, smooth ? &g : nullptr,
              kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays, &v[k]);
@@ -649,23 +719,25 @@ class Refiner {
   /// scene of one root cell would use one thread otherwise); the same leaves in the same order.
   void refine_parallel(ThreadEvaluators& evals, const Index3& at, int depth, int levels,
                        Leaves& out, const IGrad* parent = nullptr, const IGrad* own = nullptr,
-                       bool tighten_first = false) const {
+                       bool tighten_first = false, const ChildValues* values = nullptr) const {
     Evaluators& e = *evals.local();
-    if (levels == 0) return refine(e, at, depth, out, parent, own, tighten_first);
+    if (levels == 0) return refine(e, at, depth, out, parent, own, tighten_first, values);
     IGrad g;
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids)) {
+            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
       return emit(e, out, *l);
     }
+    std::array<ChildValues, 8> v;
+    evaluate_children(e, at, depth, smooth ? &g : nullptr, kids.valid, v);
     std::array<Leaves, 8> parts;
     tbb::parallel_for(0, 8, [&](int k) {
       RoundingScope scope;
       const auto i = std::size_t(k);
       refine_parallel(evals, child(at, depth, k), depth + 1, levels - 1, parts[i],
                       smooth ? &g : nullptr, kids.valid ? &kids.g[i] : nullptr,
-                      kids.valid && kids.pays);
+                      kids.valid && kids.pays, &v[i]);
     });
     for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   }
@@ -675,11 +747,22 @@ class Refiner {
   /// (settle() counts every leaf of the loop at its end).
   void expand_top(Evaluators& e, const Index3& at, int depth, int levels, std::vector<Subtree>& out,
                   const IGrad* parent = nullptr, const IGrad* own = nullptr,
-                  bool tighten_first = false) const {
+                  bool tighten_first = false, const ChildValues* values = nullptr) const {
     if (levels == 0) {
-      Subtree t{at, depth, {}, false, parent != nullptr, own != nullptr, {}, {}, tighten_first};
+      Subtree t{at,
+                depth,
+                {},
+                false,
+                parent != nullptr,
+                own != nullptr,
+                {},
+                {},
+                tighten_first,
+                values != nullptr,
+                {}};
       if (parent) t.parent = *parent;
       if (own) t.own = *own;
+      if (values) t.values = *values;
       out.push_back(t);
       return;
     }
@@ -687,13 +770,15 @@ class Refiner {
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids)) {
-      out.push_back(Subtree{at, depth, *l, true, false, false, {}, {}});
+            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
+      out.push_back(Subtree{at, depth, *l, true, false, false, {}, {}, false, false, {}});
       return;
     }
+    std::array<ChildValues, 8> v;
+    evaluate_children(e, at, depth, smooth ? &g : nullptr, kids.valid, v);
     for (std::size_t k = 0; k < 8; ++k) {
       expand_top(e, child(at, depth, int(k)), depth + 1, levels - 1, out, smooth ? &g : nullptr,
-                 kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays);
+                 kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays, &v[k]);
     }
   }
 
@@ -723,11 +808,14 @@ class Refiner {
   }
 
  private:
-  /// The first evaluations of classify() for the 8 children of a split cell, in two batches:
-  /// f over each child's box, and, where the children get the cell's gradient (`smooth`) for
-  /// their mean-value form, f at each centre. A child whose value decides before its centre
-  /// does leaves that unused (and uncounted), which the batch costs less than.
-  void evaluate_children(Evaluators& e, const Index3& at, int depth, bool smooth,
+  /// The first evaluations of classify() for the 8 children of a split cell, in batches: f over
+  /// each child's box; where the children get the cell's gradient `parent` (smooth) for their
+  /// mean-value form, f at each centre; and, unless they get their gradients from the cell's
+  /// tighten() (`own`), the gradients of the children whose value and the mean-value form with
+  /// `parent` do not decide (what classify() would evaluate next), when there are two or more.
+  /// A child whose value decides before its centre does leaves that unused (and uncounted),
+  /// which the batch costs less than.
+  void evaluate_children(Evaluators& e, const Index3& at, int depth, const IGrad* parent, bool own,
                          std::array<ChildValues, 8>& v) const {
     const std::uint32_t h = grid_.size(depth) / 2;
     double line[3][3];
@@ -747,16 +835,40 @@ class Refiner {
       v[k].f = out[k];
       v[k].f_partial = e.batch.partial_domain(int(k));
     }
-    if (!smooth) return;
-    std::array<IBox, 8> points;
-    for (std::size_t k = 0; k < 8; ++k) {
-      for (int a = 0; a < 3; ++a) points[k][a] = Interval(centre(boxes[k], a));
+    if (parent) {
+      std::array<IBox, 8> points;
+      for (std::size_t k = 0; k < 8; ++k) {
+        for (int a = 0; a < 3; ++a) points[k][a] = Interval(centre(boxes[k], a));
+      }
+      e.batch.eval(points.data(), 8, out.data());
+      for (std::size_t k = 0; k < 8; ++k) {
+        v[k].has_centre = true;
+        v[k].centre = out[k];
+        v[k].centre_partial = e.batch.partial_domain(int(k));
+      }
     }
-    e.batch.eval(points.data(), 8, out.data());
+    if (own) return;
+    // classify()'s tests before it evaluates the gradient, with these values.
+    std::array<IBox, 8> wanted;
+    std::array<std::size_t, 8> which;
+    int n = 0;
     for (std::size_t k = 0; k < 8; ++k) {
-      v[k].has_centre = true;
-      v[k].centre = out[k];
-      v[k].centre_partial = e.batch.partial_domain(int(k));
+      if (zero_free(v[k].f) || v[k].f.is_empty()) continue;
+      if (parent && !v[k].f_partial && !v[k].centre_partial &&
+          zero_free(expand(boxes[k], v[k].centre, parent->g))) {
+        continue;
+      }
+      which[std::size_t(n)] = k;
+      wanted[std::size_t(n++)] = boxes[k];
+    }
+    if (n < 2) return;  // a batch of one costs more than IntervalGradEval
+    std::array<IGrad, 8> grads;
+    e.batch_g.eval(wanted.data(), n, grads.data());
+    for (std::size_t i = 0; i < std::size_t(n); ++i) {
+      ChildValues& c = v[which[i]];
+      c.has_grad = true;
+      c.grad = grads[i];
+      c.grad_partial = e.batch_g.partial_domain(int(i));
     }
   }
 
@@ -812,6 +924,10 @@ class Refiner {
     if (own) {
       g = *own;  // evaluated by the parent, without domain trouble
       smooth = true;
+    } else if (values && values->has_grad) {
+      ++e.evaluations;
+      g = values->grad;
+      smooth = !values->grad_partial;
     } else {
       ++e.evaluations;
       g = e.g.eval(IBox(b));
@@ -887,16 +1003,20 @@ class Refiner {
     for (int a = 0; a < 3; ++a) {
       for (std::uint32_t j = 0; j < 3; ++j) line[a][j] = grid_.coord(a, at[std::size_t(a)] + j * h);
     }
+    std::array<IBox, 8> boxes;
+    for (std::size_t k = 0; k < 8; ++k) {
+      for (int a = 0; a < 3; ++a) {
+        const std::size_t j = (k >> a) & 1u;
+        boxes[k][a] = Interval(line[a][j], line[a][j + 1]);
+      }
+    }
+    // One batch, the same doubles as IntervalGradEval child by child; counted as they were,
+    // up to the first child with domain trouble.
+    e.batch_g.eval(boxes.data(), 8, kids.g.data());
     IGrad hull_g;
     for (std::size_t k = 0; k < 8; ++k) {
       ++e.evaluations;
-      IBox box;
-      for (int a = 0; a < 3; ++a) {
-        const std::size_t j = (k >> a) & 1u;
-        box[a] = Interval(line[a][j], line[a][j + 1]);
-      }
-      kids.g[k] = e.g.eval(box);
-      if (e.g.partial_domain()) return false;
+      if (e.batch_g.partial_domain(int(k))) return false;
       if (k == 0) {
         hull_g = kids.g[0];
         continue;
@@ -1866,7 +1986,8 @@ Leaves refine_spread(const Refiner& r, const std::vector<std::pair<Index3, int>>
           out.clear();
           try {
             r.refine(e, t.at, t.depth, out, t.has_parent ? &t.parent : nullptr,
-                     t.has_own ? &t.own : nullptr, t.tighten_first);
+                     t.has_own ? &t.own : nullptr, t.tighten_first,
+                     t.has_values ? &t.values : nullptr);
           } catch (const SettingError&) {  // this process alone is over the box limit
             over.store(true);
             put_bytes(res, std::uint8_t{1});
