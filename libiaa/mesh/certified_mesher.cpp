@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -1091,13 +1092,19 @@ struct VertexTable {
     return (((k >> (2 * kKeyBits)) >> s) * buckets[1] + (((k >> kKeyBits) & m) >> s)) * buckets[0] +
            ((k & m) >> s);
   }
-  static std::uint64_t hash(Key k) { return (k * 0x9E3779B97F4A7C15ull) >> 32; }
+  /// The home slot of k in a power-of-two table of n >= 2 slots: the top bits of the Fibonacci
+  /// product, which every bit of the key reaches. (Its bits from 32 up, taken before, are not
+  /// reached by z, which a key holds from bit 40: the points of a bucket that differ in z only
+  /// shared a home slot, and lookups probed about 6 slots on average.)
+  static std::size_t home(Key k, std::size_t n) {
+    return std::size_t((k * 0x9E3779B97F4A7C15ull) >> (64 - std::countr_zero(n)));
+  }
   /// The slot of k, or null.
   const Slot* find(Key k) const {
     const std::size_t b = bucket(k);
     const std::uint32_t base = region[b], n = region[b + 1] - base;
     if (n == 0) return nullptr;
-    for (std::uint64_t h = hash(k) & (n - 1);; h = (h + 1) & (n - 1)) {
+    for (std::size_t h = home(k, n);; h = (h + 1) & (n - 1)) {
       const Slot& s = slots[base + h];
       if (s.key == k) return &s;
       if (s.key == kNone) return nullptr;
@@ -1233,7 +1240,7 @@ std::uint32_t dedupe(std::uint64_t* e, std::uint8_t* d, std::size_t n, DedupeScr
   scratch.depth.assign(size, 0);
   std::uint32_t unique = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    std::uint64_t h = VertexTable::hash(e[i] >> 3) & (size - 1);
+    std::size_t h = VertexTable::home(e[i] >> 3, size);
     while (scratch.code[h] != VertexTable::kNone && (scratch.code[h] >> 3) != (e[i] >> 3)) {
       h = (h + 1) & (size - 1);
     }
@@ -1256,7 +1263,7 @@ void put(VertexTable& t, std::uint64_t e, std::uint8_t depth, std::size_t b) {
   const Key key = e >> 3;
   const std::uint64_t code = e & 7;
   const std::uint32_t base = t.region[b], size = t.region[b + 1] - base;
-  std::uint64_t h = VertexTable::hash(key) & (size - 1);
+  std::size_t h = VertexTable::home(key, size);
   while (t.slots[base + h].key != VertexTable::kNone) h = (h + 1) & (size - 1);
   VertexTable::Slot& s = t.slots[base + h];
   s.key = key;
@@ -1427,7 +1434,7 @@ class PlacedCrossings {
  private:
   // An id is an edge's lower end (at most 60 bits) shifted by 2: never all ones.
   static constexpr Key kNone = ~Key{0};
-  std::size_t slot_of(Key id) const { return VertexTable::hash(id) & (slots_.size() - 1); }
+  std::size_t slot_of(Key id) const { return VertexTable::home(id, slots_.size()); }
   void grow() {
     std::vector<std::pair<Key, Vec3>> old(std::max<std::size_t>(1024, 2 * slots_.size()),
                                           {kNone, Vec3{}});
