@@ -1499,15 +1499,17 @@ class Extractor {
     return same && !finer_;
   }
 
-  Key key_at(int a, std::uint32_t w, std::uint32_t u, std::uint32_t v) const {
-    Index3 p;
-    p[std::size_t(a)] = w;
-    p[std::size_t((a + 1) % 3)] = u;
-    p[std::size_t((a + 2) % 3)] = v;
-    return make_key(p);
+  // The key of the point at w along axis a and (u, v) along the axes after it: make_key() of
+  // that point, with the fields' shifts looked up instead of the axes computed modulo 3.
+  static Key key_at(int a, std::uint32_t w, std::uint32_t u, std::uint32_t v) {
+    static constexpr int kShift[3][3] = {
+        {0, kKeyBits, 2 * kKeyBits}, {kKeyBits, 2 * kKeyBits, 0}, {2 * kKeyBits, 0, kKeyBits}};
+    const int* sh = kShift[a];
+    return Key(w) << sh[0] | Key(u) << sh[1] | Key(v) << sh[2];
   }
 
   // The leaf corner at (du, dv) (0 or 1 each, along the axes after a) of face (a, side).
+  static constexpr int kDu[4] = {0, 1, 1, 0}, kDv[4] = {0, 0, 1, 1};
   static int face_corner(int a, int side, int du, int dv) {
     return side << a | du << ((a + 1) % 3) | dv << ((a + 2) % 3);
   }
@@ -1518,10 +1520,13 @@ class Extractor {
   // only such faces and sides are looked up.
   void face(int a, int side) {
     const std::uint32_t w = leaf_.at[std::size_t(a)] + (side ? size_ : 0);
-    for (int k = 0; k < 4; ++k) {
-      side_finer_[std::size_t(k)] =
-          corner_finer_[std::size_t(face_corner(a, side, k == 1 || k == 2, k >= 2))] ||
-          corner_finer_[std::size_t(face_corner(a, side, k == 0 || k == 1, k >= 1 && k <= 2))];
+    // The face's corners in the order of piece()'s cycle, (du, dv) = (0, 0), (1, 0), (1, 1), (0,
+    // 1); side k of the cycle runs from its corner k to corner k + 1.
+    for (int i = 0; i < 4; ++i)
+      face_corners_[std::size_t(i)] = face_corner(a, side, kDu[i], kDv[i]);
+    for (std::size_t k = 0; k < 4; ++k) {
+      side_finer_[k] = corner_finer_[std::size_t(face_corners_[k])] ||
+                       corner_finer_[std::size_t(face_corners_[(k + 1) % 4])];
     }
     face_finer_ = finer_ && (side_finer_[0] || side_finer_[2]);
     piece(a, side, w, leaf_.at[std::size_t((a + 1) % 3)], leaf_.at[std::size_t((a + 2) % 3)],
@@ -1541,14 +1546,13 @@ class Extractor {
     cycle_signs_.clear();
     const std::array<std::array<std::uint32_t, 2>, 4> c = {
         {{u0, v0}, {u0 + s, v0}, {u0 + s, v0 + s}, {u0, v0 + s}}};
-    constexpr int kDu[4] = {0, 1, 1, 0}, kDv[4] = {0, 0, 1, 1};
     for (int i = 0; i < 4; ++i) {
       const auto& p = c[std::size_t(i)];
       const auto& q = c[std::size_t((i + 1) % 4)];
       const Key k = key_at(a, w, p[0], p[1]);
       cycle_.push_back(k);
-      cycle_signs_.push_back(
-          s == size_ ? corner_signs_[std::size_t(face_corner(a, side, kDu[i], kDv[i]))] : sign(k));
+      cycle_signs_.push_back(s == size_ ? corner_signs_[std::size_t(face_corners_[std::size_t(i)])]
+                                        : sign(k));
       // A side of the whole face: looked up only where one of its ends has a finer leaf.
       if (s < size_ || side_finer_[std::size_t(i)]) side_points(a, w, p, q, s);
     }
@@ -1599,9 +1603,10 @@ class Extractor {
     std::vector<std::pair<Key, bool>>& xs = piece_crossings_;  // crossing id, up (- to +)
     xs.clear();
     for (std::size_t i = 0; i < n; ++i) {
-      const Key p = cycle_[i], q = cycle_[(i + 1) % n];
+      const std::size_t j = i + 1 == n ? 0 : i + 1;
+      const Key p = cycle_[i], q = cycle_[j];
       check_inner_edge(p, q);
-      const std::int8_t sp = cycle_signs_[i], sq = cycle_signs_[(i + 1) % n];
+      const std::int8_t sp = cycle_signs_[i], sq = cycle_signs_[j];
       if (sp == sq) continue;
       xs.emplace_back(add_crossing(p, q), sp < 0);
     }
@@ -1901,6 +1906,7 @@ class Extractor {
   /// face's corners is.
   std::array<bool, 8> corner_finer_{};
   std::array<bool, 4> side_finer_{};
+  std::array<int, 4> face_corners_{};  ///< the leaf corners of the face being cut, by cycle point
   bool face_finer_ = false;
   // Scratch space kept between leaves.
   std::vector<std::pair<Key, bool>> piece_crossings_;
