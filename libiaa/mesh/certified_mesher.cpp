@@ -1480,7 +1480,7 @@ class Extractor {
     for (std::uint32_t k = 0; k < 8; ++k) {
       corner_keys_[k] =
           make_key({p[0] + (k & 1) * s, p[1] + ((k >> 1) & 1) * s, p[2] + ((k >> 2) & 1) * s});
-      const VertexTable::Slot* slot = table_.find(corner_keys_[k]);
+      const VertexTable::Slot* slot = lookup(corner_keys_[k]);
       corner_signs_[k] = table_sign(slot);
       corner_finer_[k] = slot && slot->finest > leaf_.depth;
       maybe_finer = maybe_finer || corner_finer_[k];
@@ -1494,7 +1494,7 @@ class Extractor {
       if (mids != 1 && mids != 2) continue;
       Index3 q;
       for (std::size_t a = 0; a < 3; ++a) q[a] = p[a] + (c[a] == 0 ? 0 : (c[a] == 1 ? h : s));
-      finer_ = table_.contains(make_key(q));
+      finer_ = lookup(make_key(q)) != nullptr;
     }
     return same && !finer_;
   }
@@ -1536,7 +1536,7 @@ class Extractor {
   void piece(int a, int side, std::uint32_t w, std::uint32_t u0, std::uint32_t v0,
              std::uint32_t s) {
     const std::uint32_t h = s / 2;
-    if (s > 1 && face_finer_ && table_.contains(key_at(a, w, u0 + h, v0 + h))) {
+    if (s > 1 && face_finer_ && lookup(key_at(a, w, u0 + h, v0 + h))) {
       for (int k = 0; k < 4; ++k) piece(a, side, w, u0 + (k & 1) * h, v0 + (k >> 1) * h, h);
       return;
     }
@@ -1570,7 +1570,7 @@ class Extractor {
     const std::array<std::uint32_t, 2> m = {(p[0] + q[0]) / 2, (p[1] + q[1]) / 2};
     const Key km = key_at(a, w, m[0], m[1]);
     if (!face_finer_) return;
-    const VertexTable::Slot* slot = table_.find(km);
+    const VertexTable::Slot* slot = lookup(km);
     if (!slot) return;
     side_points(a, w, p, m, len / 2);
     cycle_.push_back(km);
@@ -1587,7 +1587,18 @@ class Extractor {
     return table_sign(k);
   }
 
-  std::int8_t table_sign(Key k) { return table_sign(table_.find(k)); }
+  std::int8_t table_sign(Key k) { return table_sign(lookup(k)); }
+
+  // The table's slot of k (null if none), through a direct-mapped cache of recent lookups: a
+  // corner is shared by up to 8 leaves, a face centre or edge midpoint is asked for by quiet()
+  // and by the faces being cut, a piece's corners and sides by the pieces next to it, and a
+  // face by the leaves on both its sides, which come close together in the leaves' order. The
+  // table does not change while an extractor lives (one round's extraction).
+  const VertexTable::Slot* lookup(Key k) {
+    Memo& m = memo_[std::size_t((k * 0x9E3779B97F4A7C15ull) >> (64 - kMemoBits))];
+    if (m.key != k) m = {k, table_.find(k)};
+    return m.slot;
+  }
   std::int8_t table_sign(const VertexTable::Slot* s) {
     if (!s) {  // cannot happen: every cycle point is a leaf corner
       out_.uncertain = true;
@@ -1908,6 +1919,12 @@ class Extractor {
   std::array<bool, 4> side_finer_{};
   std::array<int, 4> face_corners_{};  ///< the leaf corners of the face being cut, by cycle point
   bool face_finer_ = false;
+  struct Memo {
+    Key key = VertexTable::kNone;  // never a point's key
+    const VertexTable::Slot* slot = nullptr;
+  };
+  static constexpr int kMemoBits = 10;
+  std::array<Memo, std::size_t{1} << kMemoBits> memo_{};
   // Scratch space kept between leaves.
   std::vector<std::pair<Key, bool>> piece_crossings_;
   std::vector<std::uint32_t> loop_;
