@@ -1095,7 +1095,7 @@ struct VertexTable {
   /// The home slot of k in a power-of-two table of n >= 2 slots: the top bits of the Fibonacci
   /// product, which every bit of the key reaches. (Its bits from 32 up, taken before, are not
   /// reached by z, which a key holds from bit 40: the points of a bucket that differ in z only
-  /// shared a home slot, and lookups probed about 6 slots on average.)
+  /// shared a home slot, and a lookup probed about 6 slots, by callgrind's counts.)
   static std::size_t home(Key k, std::size_t n) {
     return std::size_t((k * 0x9E3779B97F4A7C15ull) >> (64 - std::countr_zero(n)));
   }
@@ -1520,8 +1520,8 @@ class Extractor {
   // only such faces and sides are looked up.
   void face(int a, int side) {
     const std::uint32_t w = leaf_.at[std::size_t(a)] + (side ? size_ : 0);
-    // The face's corners in the order of piece()'s cycle, (du, dv) = (0, 0), (1, 0), (1, 1), (0,
-    // 1); side k of the cycle runs from its corner k to corner k + 1.
+    // The face's corners in the order of piece()'s cycle (kDu, kDv); side k of the cycle runs
+    // from its corner k to corner k + 1.
     for (int i = 0; i < 4; ++i)
       face_corners_[std::size_t(i)] = face_corner(a, side, kDu[i], kDv[i]);
     for (std::size_t k = 0; k < 4; ++k) {
