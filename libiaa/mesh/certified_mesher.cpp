@@ -11,7 +11,6 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -36,6 +35,7 @@
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
 #include "expr/eval_point_grad.h"
+#include "mesh/radix_sort.h"
 
 namespace iaa {
 
@@ -2363,10 +2363,12 @@ std::vector<char> touching(const Grid& grid, const Leaves& leaves, const Leaves&
 std::vector<std::uint32_t> weld(const Round& r, const Exec& exec, TriangleSoup& soup,
                                 std::vector<std::uint32_t>& first) {
   std::uint32_t n = 0;
+  std::size_t centres = 0;
   first.resize(r.outs.size());
   for (std::size_t i = 0; i < r.outs.size(); ++i) {
     first[i] = n;
     n += std::uint32_t(r.outs[i].crossings.size());
+    centres += r.outs[i].centres.size();
   }
   BigVector<std::pair<Key, std::uint32_t>> ids(n);  // crossing id, its number
   BigVector<const Vec3*> at(n);
@@ -2380,20 +2382,41 @@ std::vector<std::uint32_t> weld(const Round& r, const Exec& exec, TriangleSoup& 
         }
       }
     });
-    tbb::parallel_sort(ids.begin(), ids.end(),
-                       [](const auto& a, const auto& b) { return a.first < b.first; });
+    detail::radix_sort(ids.data(), ids.size(), [](const auto& e) { return e.first; });
   });
-  std::vector<std::uint32_t> vertex(n);
+  // Numbered in blocks: each block counts the ids that start a run of equal ids, a scan gives
+  // each block its first number, then every block numbers and copies its own (the numbers are
+  // those of one pass in id order).
+  constexpr std::size_t kBlock = std::size_t{1} << 14;
+  const std::size_t blocks = (std::size_t(n) + kBlock - 1) / kBlock;
+  const auto starts_run = [&](std::size_t j) { return j == 0 || ids[j].first != ids[j - 1].first; };
+  const auto block_end = [&](std::size_t b) { return std::min<std::size_t>(n, (b + 1) * kBlock); };
+  std::vector<std::size_t> before(blocks + 1, 0);  // unique ids in the blocks before each
+  exec.run([&] {
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+      std::size_t k = 0;
+      for (std::size_t j = b * kBlock; j < block_end(b); ++j) k += starts_run(j);
+      before[b + 1] = k;
+    });
+  });
+  for (std::size_t b = 0; b < blocks; ++b) before[b + 1] += before[b];
   // The soup's final size (welded crossings, then the fans' centres), reserved once: grown by
   // doubling, its copies were a third of the mesher's page faults.
-  std::size_t unique = 0, centres = 0;
-  for (std::size_t j = 0; j < ids.size(); ++j) unique += j == 0 || ids[j].first != ids[j - 1].first;
-  for (const CellOut& o : r.outs) centres += o.centres.size();
-  soup.vertices.reserve(soup.vertices.size() + unique + centres);
-  for (std::size_t j = 0; j < ids.size(); ++j) {
-    if (j == 0 || ids[j].first != ids[j - 1].first) soup.vertices.push_back(*at[ids[j].second]);
-    vertex[ids[j].second] = std::uint32_t(soup.vertices.size() - 1);
-  }
+  const std::size_t base = soup.vertices.size();
+  soup.vertices.reserve(base + before[blocks] + centres);
+  soup.vertices.resize(base + before[blocks]);
+  std::vector<std::uint32_t> vertex(n);
+  exec.run([&] {
+    tbb::parallel_for(std::size_t{0}, blocks, [&](std::size_t b) {
+      // A block's first id continues the previous block's last run unless it starts one (the
+      // very first id always does, so `next - 1` is never taken before a vertex exists).
+      std::size_t next = base + before[b];
+      for (std::size_t j = b * kBlock; j < block_end(b); ++j) {
+        if (starts_run(j)) soup.vertices[next++] = *at[ids[j].second];
+        vertex[ids[j].second] = std::uint32_t(next - 1);
+      }
+    });
+  });
   return vertex;
 }
 

@@ -20,6 +20,7 @@
 #include "expr/eval_interval.h"
 #include "expr/eval_point.h"
 #include "expr/eval_point_grad.h"
+#include "mesh/radix_sort.h"
 
 namespace iaa {
 
@@ -89,62 +90,11 @@ inline U64 key_of(U64 k) {
 inline U64 key_of(const Keyed& k) {
   return k.key;
 }
-struct KeyLess {
-  template <class T>
-  bool operator()(const T& a, const T& b) const {
-    return key_of(a) < key_of(b);
-  }
-};
 
-/// LSD radix sort by 64-bit key, 11 bits per pass; passes whose digit is the same for every key
-/// (the grid keys use 3 fields of level + 1 bits out of 21) are skipped. Stable. `tmp` is scratch.
-template <class T>
-void radix_sort_serial(T* a, T* tmp, std::size_t n) {
-  constexpr int kDigit = 11, kPasses = 6;
-  constexpr std::size_t kBuckets = std::size_t{1} << kDigit;
-  std::vector<std::size_t> count(kPasses * kBuckets, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const U64 v = key_of(a[i]);
-    for (int p = 0; p < kPasses; ++p)
-      ++count[p * kBuckets + ((v >> (p * kDigit)) & (kBuckets - 1))];
-  }
-  T* src = a;
-  T* dst = tmp;
-  for (int p = 0; p < kPasses; ++p) {
-    std::size_t* c = &count[p * kBuckets];
-    if (std::any_of(c, c + kBuckets, [&](std::size_t k) { return k == n; })) continue;
-    std::size_t sum = 0;
-    for (std::size_t b = 0; b < kBuckets; ++b) sum += std::exchange(c[b], sum);
-    for (std::size_t i = 0; i < n; ++i)
-      dst[c[(key_of(src[i]) >> (p * kDigit)) & (kBuckets - 1)]++] = src[i];
-    std::swap(src, dst);
-  }
-  if (src != a) std::copy(src, src + n, a);
-}
-
-/// Sorts v by key, ascending: four parts radix-sorted in parallel, then merged (the result is the
-/// sorted sequence, whatever the thread count; keys are distinct or carry no payload). Several
-/// times faster than a comparison sort on the millions of grid keys.
+/// Sorts v by key, ascending (radix_sort.h: the result does not depend on the thread count).
 template <class T>
 void sort_keys(std::vector<T>& v) {
-  const std::size_t n = v.size();
-  std::vector<T> tmp(n);
-  if (n < (std::size_t{1} << 16)) {
-    radix_sort_serial(v.data(), tmp.data(), n);
-    return;
-  }
-  constexpr std::size_t kParts = 4;
-  std::size_t cut[kParts + 1];
-  for (std::size_t k = 0; k <= kParts; ++k) cut[k] = n * k / kParts;
-  tbb::parallel_for(std::size_t{0}, kParts, [&](std::size_t k) {
-    radix_sort_serial(v.data() + cut[k], tmp.data() + cut[k], cut[k + 1] - cut[k]);
-  });
-  tbb::parallel_for(std::size_t{0}, std::size_t{2}, [&](std::size_t k) {
-    std::merge(v.begin() + cut[2 * k], v.begin() + cut[2 * k + 1], v.begin() + cut[2 * k + 1],
-               v.begin() + cut[2 * k + 2], tmp.begin() + cut[2 * k], KeyLess{});
-  });
-  std::merge(tmp.begin(), tmp.begin() + cut[2], tmp.begin() + cut[2], tmp.end(), v.begin(),
-             KeyLess{});
+  detail::radix_sort(v.data(), v.size(), [](const T& e) { return key_of(e); });
 }
 
 /// Open-addressing map from a 63-bit key to a 32-bit value, filled in parallel (distinct keys,

@@ -74,8 +74,12 @@ struct Timed {
 /// Runs the mesher --runs times (CGAL, the slowest, once) and takes the median time.
 Timed time_mesher(const Options& o, meshing::Method m, const meshing::Surface& s,
                   const Exec& exec) {
-  static const char* kPhases[] = {"seconds_enclose", "seconds_signs", "seconds_extract",
+  // The phases each of our meshers reports (their medians go into the row's notes).
+  static const char* kOctree[] = {"seconds_enclose", "seconds_signs", "seconds_extract",
                                   "seconds_vertices"};
+  static const char* kCertified[] = {"seconds_refine", "seconds_table", "seconds_extract",
+                                     "seconds_assemble"};
+  const char* const* phases = m == meshing::Method::kCertified ? kCertified : kOctree;
   Timed tm;
   tm.runs = m == meshing::Method::kCgal ? 1 : o.runs;
   tm.phases.resize(4);
@@ -88,8 +92,8 @@ Timed time_mesher(const Options& o, meshing::Method m, const meshing::Surface& s
     tm.peak_exact = tm.peak_exact && memory.exact();
     times.push_back(tm.last.seconds);
     for (int ph = 0; ph < 4; ++ph) {
-      if (tm.last.details.contains(kPhases[ph]))
-        tm.phases[ph].push_back(tm.last.details[kPhases[ph]].get<double>());
+      if (tm.last.details.contains(phases[ph]))
+        tm.phases[ph].push_back(tm.last.details[phases[ph]].get<double>());
     }
   }
   tm.seconds = median(times);
@@ -112,7 +116,7 @@ CompareCounts compare_mesh(const Options& o, TriangleSoup& soup, const Film& fil
 }
 
 /// The row's notes: what the mesher left unmeshed or uncertified, certified against VTK's time,
-/// and the octree's phases.
+/// and the phases of our meshers.
 std::string notes_for(meshing::Method m, const Timed& tm, double certified_seconds) {
   const nlohmann::json& d = tm.last.details;
   std::string notes;
@@ -128,7 +132,7 @@ std::string notes_for(meshing::Method m, const Timed& tm, double certified_secon
     std::snprintf(buf, sizeof buf, "certified/vtk time %.2fx", certified_seconds / tm.seconds);
     notes = buf;
   }
-  if (!tm.phases[0].empty()) {  // the octree's phases, medians over the runs
+  if (!tm.phases[0].empty()) {  // our meshers' phases, medians over the runs
     char buf[96];
     std::snprintf(buf, sizeof buf, "; phases %.3f/%.3f/%.3f/%.3f s", median(tm.phases[0]),
                   median(tm.phases[1]), median(tm.phases[2]), median(tm.phases[3]));
@@ -220,7 +224,8 @@ void run(const Options& o) {
   std::printf(
       "lost: IAA certifies surface in the pixel, the mesh shows none; wrong: IAA certifies\n"
       "the pixel empty, the mesh shows surface; undecided: IAA could not decide, no mesh there.\n"
-      "octree phases: enclosure / grid signs / loop extraction / vertex placement.\n%s\n",
+      "phases, certified: refinement / corner table / extraction / assembly;\n"
+      "octree: enclosure / grid signs / loop extraction / vertex placement.\n%s\n",
       kPeakNote);
   if (!o.json.empty()) {
     nlohmann::json j = {{"rows", out}};
