@@ -48,9 +48,10 @@ void check_options(const Options& o) {
 void print_header(const Options& o, const Exec& exec) {
   std::printf(
       "resolution %d (octree depth %d + refine %d, vtk grid %d, cgal facet size edge/%d), "
-      "images %dx%d, %d threads\n",
+      "images %dx%d, %d thread%s\n",
       o.p.resolution, o.p.octree_depth(), o.p.refine, o.p.grid > 0 ? o.p.grid : o.p.resolution,
-      o.p.resolution, o.image, o.image, exec.resolved_threads());
+      o.p.resolution, o.image, o.image, exec.resolved_threads(),
+      exec.resolved_threads() == 1 ? "" : "s");
   std::printf("%-11s %-7s %9s %10s %8s %8s %10s %9s  %s\n", "surface", "method", "time s",
               "triangles", "lost px", "wrong px", "undecided", "peak MiB", "notes");
 }
