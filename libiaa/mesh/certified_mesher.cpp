@@ -11,6 +11,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <array>
@@ -19,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -2481,8 +2483,18 @@ void assemble(const Grid& grid, const Leaves& leaves, const Round& r, bool stric
       }
     });
   });
-  for (const auto& v : r.table.slots)
-    st.uncertain_corners += v.key != VertexTable::kNone && v.uncertain;
+  // The table's slots (millions, most of them empty) are counted in parallel.
+  const auto& slots = r.table.slots;
+  exec.run([&] {
+    st.uncertain_corners = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, slots.size(), std::size_t{1} << 16), std::uint64_t{0},
+        [&](const auto& range, std::uint64_t k) {
+          for (std::size_t i = range.begin(); i < range.end(); ++i)
+            k += slots[i].key != VertexTable::kNone && slots[i].uncertain;
+          return k;
+        },
+        std::plus<>());
+  });
   st.surface_to_mesh = strict ? st.mesh_to_surface : certified_diagonal + st.mesh_to_surface;
 }
 

@@ -310,6 +310,21 @@ TEST(CertifiedMesher, TeardropNeckIsReportedUncertifiedButMeshed) {
   }
 }
 
+TEST(CertifiedMesher, CornersOnTheSurfaceAreCountedUncertain) {
+  // 0.1 * x * 10 - x rounds to a few ulps about 0 at every grid point, so the plane z = 0.25
+  // lies on grid corners whose interval values straddle 0: each is counted, and the leaves that
+  // have one are uncertified (reason 2), whatever the thread count.
+  for (int threads : {1, 2}) {
+    const Checked c = run("0.1 * x * 10 - x + z - 0.25", kCube, 3, threads, 5);
+    EXPECT_GT(c.mesh.stats.uncertain_corners, 0u);
+    EXPECT_GT(c.mesh.stats.uncertified_leaves, 0u);
+    bool corner_reason = false;
+    for (const UncertifiedCell& u : c.mesh.uncertified)
+      corner_reason = corner_reason || u.reason == 2;
+    EXPECT_TRUE(corner_reason);
+  }
+}
+
 TEST(CertifiedMesher, SettingsOutsideTheLimitsAreRefused) {
   CertifiedMeshSettings s = settings_for(kCube);
   s.max_depth = 40;
