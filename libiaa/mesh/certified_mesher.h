@@ -67,6 +67,11 @@ struct CertifiedMeshSettings {
   /// evaluations is lower but depends on which thread (or process) meets which cell, without it
   /// the count is the same for any number of threads and processes (for tests and comparisons).
   bool proof_cache = true;
+  /// Leaves without finer neighbours (half of those holding crossings on the thin torus) take
+  /// their crossings and segments from a table of the 256 cases of corner signs, made once by the
+  /// rules that cut faces, instead of cutting their 6 faces. The mesh is the same either way (for
+  /// the test that compares them).
+  bool simple_leaves = true;
 
   /// Fine grid coordinates must fit 19 bits per axis: max_depth + log2(roots per axis) <= 19.
   static constexpr int kGridBits = 19;

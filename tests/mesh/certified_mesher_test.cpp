@@ -253,6 +253,36 @@ TEST(CertifiedMesher, RandomUnionsOfSpheresAndToriHaveTheirTopology) {
   }
 }
 
+// Leaves without finer neighbours take their crossings and segments from the table of the 256
+// cases of corner signs (CertifiedMeshSettings::simple_leaves): the same mesh, vertex for vertex
+// and triangle for triangle, as cutting their faces, on surfaces whose leaves meet every kind of
+// neighbour (a torus, two spheres close together, a thin torus refined to depth 7, a saddle and
+// a surface with a singular point, where leaves are split and uncertified).
+TEST(CertifiedMesher, SimpleLeavesTableGivesTheMeshOfFaceCutting) {
+  const std::vector<std::pair<std::string, Box3>> cases = {
+      {"(x^2 + y^2 + z^2 + 1 - 0.0625)^2 - 4*(x^2 + y^2)", {{-1.3, -1.3, -0.3}, {1.3, 1.3, 0.3}}},
+      {"min((x-0.5005)^2 + y^2 + z^2 - 0.25, (x+0.5005)^2 + y^2 + z^2 - 0.25)", kCube},
+      {"(x^2+y^2+z^2+0.999991)^2 - 4*(x^2+y^2)", {{-1.05, -1.05, -0.05}, {1.05, 1.05, 0.05}}},
+      {"x^2 - y^2 - z + 0.1 * sin(5 * x)", kCube},
+      {"x^2 + y^2 - z^2 * (1 - z)", kCube}};
+  for (const auto& [f, b] : cases) {
+    SCOPED_TRACE(f);
+    const Tape tape = Tape::parse(f);
+    CertifiedMeshSettings s = settings_for(b);
+    const CertifiedMesh table = mesh_certified(tape, s, Exec{});
+    s.simple_leaves = false;
+    const CertifiedMesh cut = mesh_certified(tape, s, Exec{});
+    EXPECT_GT(table.soup.triangles.size(), 0u);
+    EXPECT_EQ(table.soup.triangles, cut.soup.triangles);
+    ASSERT_EQ(table.soup.vertices.size(), cut.soup.vertices.size());
+    for (std::size_t i = 0; i < table.soup.vertices.size(); ++i) {
+      EXPECT_EQ(table.soup.vertices[i], cut.soup.vertices[i]);
+    }
+    EXPECT_EQ(table.stats.leaves, cut.stats.leaves);
+    EXPECT_EQ(table.stats.uncertified_leaves, cut.stats.uncertified_leaves);
+  }
+}
+
 TEST(CertifiedMesher, SameMeshForAnyThreadCount) {
   const std::string f = "(x^2 + y^2 + z^2 + 1 - 0.0625)^2 - 4*(x^2 + y^2)";
   const Box3 b{{-1.3, -1.3, -0.3}, {1.3, 1.3, 0.3}};
