@@ -27,6 +27,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "core/arena.h"
 #include "core/big_allocator.h"
 #include "core/error.h"
 #include "core/spread.h"
@@ -1200,11 +1201,10 @@ Entries corner_entries(const Grid& grid, const Leaves& fresh, const Exec& exec) 
 /// pass over the parts in turn, whatever the thread count), and each part places its own. (One
 /// pass took half the corner table's time on the thin torus with 2 threads.)
 Entries bucketed_entries(const VertexTable& t, const VertexTable& n, const Grid& grid,
-                         const Leaves& fresh, std::vector<std::uint32_t>& start,
-                         const Exec& exec) {
+                         const Leaves& fresh, std::vector<std::uint32_t>& start, const Exec& exec) {
   const std::size_t nb = n.region.size() - 1;
   const std::size_t leaf_parts = std::size_t(std::max(1, exec.resolved_threads()));
-  const std::size_t parts = 1 + leaf_parts;  // part 0: the table's slots
+  const std::size_t parts = 1 + leaf_parts;     // part 0: the table's slots
   const auto leaf_range = [&](std::size_t p) {  // p >= 1
     return std::pair{fresh.size() * (p - 1) / leaf_parts, fresh.size() * p / leaf_parts};
   };
@@ -1459,9 +1459,17 @@ struct CellOut {
   /// rule, so a leaf that cannot be split for it stays certified.
   bool refine = false;
   std::uint64_t open_chains = 0;
-  std::vector<std::pair<Key, Vec3>> crossings;  ///< local vertices 0..n-1
-  std::vector<Vec3> centres;                    ///< local vertices n..
-  std::vector<std::array<std::uint32_t, 3>> triangles;
+  /// From the extracting thread's arena (Round::arenas), or, decoded from another process, from
+  /// operator new.
+  ArenaVector<std::pair<Key, Vec3>> crossings;  ///< local vertices 0..n-1
+  ArenaVector<Vec3> centres;                    ///< local vertices n..
+  ArenaVector<std::array<std::uint32_t, 3>> triangles;
+
+  CellOut() = default;
+  explicit CellOut(Arena* a)
+      : crossings(ArenaAllocator<std::pair<Key, Vec3>>(a)),
+        centres(ArenaAllocator<Vec3>(a)),
+        triangles(ArenaAllocator<std::array<std::uint32_t, 3>>(a)) {}
 };
 
 /// The crossings one extractor placed, by id: up to four leaves share an edge piece, and each
@@ -1505,14 +1513,15 @@ class PlacedCrossings {
 
 class Extractor {
  public:
-  Extractor(const Grid& g, const VertexTable& t, const CertifiedMeshSettings& s, Evaluators& e)
-      : grid_(g), table_(t), settings_(s), e_(e) {}
+  Extractor(const Grid& g, const VertexTable& t, const CertifiedMeshSettings& s, Evaluators& e,
+            Arena& arena)
+      : grid_(g), table_(t), settings_(s), e_(e), arena_(arena) {}
 
   CellOut run(const Leaf& leaf) {
     leaf_ = leaf;
     size_ = grid_.size(leaf.depth);
     certify_ = leaf.kind == Kind::kCertified;
-    out_ = {};
+    out_ = CellOut(&arena_);
     segments_.clear();
     crossings_.clear();
     if (quiet()) return std::move(out_);
@@ -2031,6 +2040,7 @@ class Extractor {
   const VertexTable& table_;
   const CertifiedMeshSettings& settings_;
   Evaluators& e_;
+  Arena& arena_;  ///< of the leaves' CellOuts
   Leaf leaf_{};
   std::uint32_t size_ = 1;
   bool certify_ = false;
@@ -2219,7 +2229,12 @@ Leaves refine_all(const Refiner& r, const std::vector<std::pair<Index3, int>>& c
   return out;
 }
 
+/// Per thread, the arena of the CellOuts it extracts (in every round): the CellOuts' arrays are
+/// freed with it, at once, when the Round goes.
+using CellArenas = tbb::enumerable_thread_specific<Arena>;
+
 struct Round {
+  CellArenas arenas;  ///< declared first, so that it outlives `outs`
   VertexTable table;
   BigVector<CellOut> outs;  ///< per leaf (empty for empty leaves)
 };
@@ -2234,7 +2249,8 @@ constexpr std::size_t kExtractItem = 256;
 /// they are the one-process ones.
 void extract_spread(const Grid& grid, const Leaves& leaves, const VertexTable& table,
                     const CertifiedMeshSettings& s, ThreadEvaluators& evals, const Exec& exec,
-                    BigVector<CellOut>& outs, const std::vector<char>* todo, SpreadTally& tally) {
+                    CellArenas& arenas, BigVector<CellOut>& outs, const std::vector<char>* todo,
+                    SpreadTally& tally) {
   Spread& spread = *exec.spread;
   const std::size_t n = (leaves.size() + kExtractItem - 1) / kExtractItem;
   std::vector<std::string> results(n);
@@ -2251,7 +2267,7 @@ void extract_spread(const Grid& grid, const Leaves& leaves, const VertexTable& t
           if (exec.progress && exec.progress->cancelled()) throw Error("certified mesh: cancelled");
           mine[item] = 1;
           const std::uint64_t e0 = e.evaluations;
-          Extractor x(grid, table, s, e);
+          Extractor x(grid, table, s, e, arenas.local());
           std::string& res = results[item];
           const std::size_t end = std::min(leaves.size(), (item + 1) * kExtractItem);
           for (std::size_t i = item * kExtractItem; i < end; ++i) {
@@ -2308,15 +2324,15 @@ void extract_spread(const Grid& grid, const Leaves& leaves, const VertexTable& t
 /// empty leaves); shared with other processes with Exec::spread and a tally.
 void extract_all(const Grid& grid, const Leaves& leaves, const VertexTable& table,
                  const CertifiedMeshSettings& s, ThreadEvaluators& evals, const Exec& exec,
-                 BigVector<CellOut>& outs, const std::vector<char>* todo = nullptr,
-                 SpreadTally* tally = nullptr) {
+                 CellArenas& arenas, BigVector<CellOut>& outs,
+                 const std::vector<char>* todo = nullptr, SpreadTally* tally = nullptr) {
   if (exec.spread && tally)
-    return extract_spread(grid, leaves, table, s, evals, exec, outs, todo, *tally);
+    return extract_spread(grid, leaves, table, s, evals, exec, arenas, outs, todo, *tally);
   exec.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](auto range) {
       if (exec.progress && exec.progress->cancelled()) throw Error("certified mesh: cancelled");
       RoundingScope scope;
-      Extractor x(grid, table, s, *evals.local());
+      Extractor x(grid, table, s, *evals.local(), arenas.local());
       for (std::size_t i = range.begin(); i < range.end(); ++i) {
         if (todo && !(*todo)[i]) continue;
         outs[i] = leaves[i].kind != Kind::kEmpty ? x.run(leaves[i]) : CellOut{};
@@ -2687,7 +2703,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
   add_vertices(r.table, grid, leaves, evals, exec);
   lap(st.seconds_table);
   r.outs.resize(leaves.size());
-  extract_all(grid, leaves, r.table, settings, evals, exec, r.outs, nullptr, &tally);
+  extract_all(grid, leaves, r.table, settings, evals, exec, r.arenas, r.outs, nullptr, &tally);
   lap(st.seconds_extract);
   for (;;) {
     if (phase.cancelled()) throw Error("certified mesh: cancelled");
@@ -2706,7 +2722,7 @@ CertifiedMesh mesh_certified(const Tape& tape, const CertifiedMeshSettings& sett
         outs[i] = std::move(r.outs[std::size_t(sp.origin[i])]);
     }
     leaves = std::move(sp.leaves);
-    extract_all(grid, leaves, r.table, settings, evals, exec, outs, &todo, &tally);
+    extract_all(grid, leaves, r.table, settings, evals, exec, r.arenas, outs, &todo, &tally);
     r.outs = std::move(outs);
     lap(st.seconds_extract);
   }
