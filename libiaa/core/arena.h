@@ -76,7 +76,8 @@ struct ArenaAllocator {
   }
   /// Memory from an arena goes with the arena.
   void deallocate(T* p, std::size_t n) noexcept {
-    if (!arena) ::operator delete(p, n * sizeof(T));
+    (void)n;
+    if (!arena) ::operator delete(p);
   }
   template <class U>
   bool operator==(const ArenaAllocator<U>& o) const noexcept {
