@@ -54,12 +54,14 @@ class Arena {
 
 /// std::allocator's interface over an arena, or over operator new when it has none (the default).
 /// The arena moves with the memory: a container moved or swapped into another takes its arena
-/// along, so that what it holds is never freed through another allocator.
+/// along, so that what it holds is never freed through another allocator. A copy takes operator
+/// new, never the arena: it may be made on another thread than the arena's, which takes from it
+/// unsynchronized.
 template <class T>
 struct ArenaAllocator {
   using value_type = T;
   using propagate_on_container_move_assignment = std::true_type;
-  using propagate_on_container_copy_assignment = std::true_type;
+  using propagate_on_container_copy_assignment = std::false_type;
   using propagate_on_container_swap = std::true_type;
   using is_always_equal = std::false_type;
   static_assert(alignof(T) <= Arena::kMaxAlign);
@@ -68,6 +70,8 @@ struct ArenaAllocator {
   explicit ArenaAllocator(Arena* a) noexcept : arena(a) {}
   template <class U>
   ArenaAllocator(const ArenaAllocator<U>& o) noexcept : arena(o.arena) {}  // NOLINT: as std's
+
+  ArenaAllocator select_on_container_copy_construction() const noexcept { return {}; }
 
   T* allocate(std::size_t n) {
     if (n > static_cast<std::size_t>(-1) / sizeof(T)) throw std::bad_array_new_length();

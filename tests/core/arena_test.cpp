@@ -1,6 +1,7 @@
 // The arena and its allocator (core/arena.h): pieces aligned and apart, blocks for large
 // requests, and containers that take their arena along when moved or swapped, so that memory is
-// never given back through the wrong allocator (the sanitizer build checks the frees).
+// never given back through the wrong allocator (the sanitizer build checks the frees), and copies
+// that leave it alone.
 #include "core/arena.h"
 
 #include <gtest/gtest.h>
@@ -62,6 +63,13 @@ TEST(ArenaAllocator, VectorsGrowInTheArenaAndTakeItAlongWhenMoved) {
   EXPECT_EQ(b.get_allocator().arena, nullptr);
   EXPECT_EQ(b[0][0], 1u);
   EXPECT_EQ(c[0][1], 1u);
+  // Copies never take from the arena (another thread may make them).
+  const ArenaVector<std::array<std::uint32_t, 3>> copied(c);
+  EXPECT_EQ(copied.get_allocator().arena, nullptr);
+  EXPECT_EQ(copied[999][2], 1001u);
+  b = c;
+  EXPECT_EQ(b.get_allocator().arena, nullptr);
+  EXPECT_EQ(b.size(), 1000u);
 }
 
 }  // namespace
