@@ -36,6 +36,7 @@
 #include "expr/eval_batch_grad.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
+#include "expr/eval_interval_hess.h"
 #include "expr/eval_point.h"
 #include "expr/eval_point_grad.h"
 #include "mesh/radix_sort.h"
@@ -172,9 +173,14 @@ class ProofCache {
 /// Per-thread evaluators.
 struct Evaluators {
   Evaluators(const Tape& t, bool proof_cache)
-      : proofs(proof_cache), f(t), batch(t), g(t), batch_g(t), p(t), pg(t) {
+      : proofs(proof_cache), f(t), batch(t), g(t), batch_g(t), p(t), pg(t), h(t) {
     partials.reserve(6);  // the evaluators keep their addresses
     for (int wanted = 1; wanted < 7; ++wanted) partials.emplace_back(t, detail::VarMask(wanted));
+    const auto ins = t.instrs();
+    for (int i = t.first_op(); i < t.size(); ++i) {
+      const Op op = ins[std::size_t(i)].op;
+      if (op == Op::kMin || op == Op::kMax) kinks.push_back(std::size_t(i));
+    }
     quarters.reserve(3);
     halves.reserve(3);
     for (int a = 0; a < 3; ++a) {
@@ -202,6 +208,11 @@ struct Evaluators {
   bool flat_partial = false;  ///< the last eval_flat_natural met domain trouble
   PointEval p;
   PointGradEval pg;
+  /// The Hessian over a cell, for the centred form of its gradient (Refiner::centre_gradient).
+  IntervalHessEval h;
+  /// The tape's min and max instructions: where a cell does not decide one, f has a crease in it
+  /// and its Hessian is unbounded (Refiner::centre_gradient).
+  std::vector<std::size_t> kinks;
   std::uint64_t evaluations = 0;
   /// Leaves made by this thread and not yet added to the shared count (which they would make a
   /// contended cache line if added one by one).
@@ -686,8 +697,8 @@ struct Subtree {
   bool done;
   bool has_parent, has_own;
   IGrad parent, own;
-  bool tighten_first = false;  ///< Refiner::refine()'s `tighten_first`
-  bool has_values = false;     ///< what its parent evaluated for it (Refiner::refine()'s `values`)
+  std::uint8_t hints = 0;   ///< Refiner::refine()'s `hints`
+  bool has_values = false;  ///< what its parent evaluated for it (Refiner::refine()'s `values`)
   ChildValues values;
 };
 
@@ -699,23 +710,23 @@ class Refiner {
       : grid_(g), settings_(s), count_(count), progress_(progress) {}
 
   /// `parent`: the gradient enclosure of the cell's parent, if it has one without domain
-  /// trouble; `own`: the cell's own, if its parent evaluated it (Children); `tighten_first`:
-  /// the parent's tighten() paid (Children::pays), so the cell tries it first (classify()).
+  /// trouble; `own`: the cell's own, if its parent evaluated it (Children); `hints`: what paid
+  /// in its parent (Children::hints, kTightenFirst and kSkipCentred), for classify().
   void refine(Evaluators& e, const Index3& at, int depth, Leaves& out,
-              const IGrad* parent = nullptr, const IGrad* own = nullptr, bool tighten_first = false,
+              const IGrad* parent = nullptr, const IGrad* own = nullptr, std::uint8_t hints = 0,
               const ChildValues* values = nullptr) const {
     IGrad g;
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
+            classify(e, at, depth, parent, own, hints, g, smooth, kids, values)) {
       return emit(e, out, *l);
     }
     std::array<ChildValues, 8> v;
     evaluate_children(e, at, depth, smooth ? &g : nullptr, kids.valid, v);
     for (std::size_t k = 0; k < 8; ++k) {
       refine(e, child(at, depth, int(k)), depth + 1, out, smooth ? &g : nullptr,
-             kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays, &v[k]);
+             kids.valid ? &kids.g[k] : nullptr, kids.hints(), &v[k]);
     }
   }
 
@@ -723,14 +734,14 @@ class Refiner {
   /// scene of one root cell would use one thread otherwise); the same leaves in the same order.
   void refine_parallel(ThreadEvaluators& evals, const Index3& at, int depth, int levels,
                        Leaves& out, const IGrad* parent = nullptr, const IGrad* own = nullptr,
-                       bool tighten_first = false, const ChildValues* values = nullptr) const {
+                       std::uint8_t hints = 0, const ChildValues* values = nullptr) const {
     Evaluators& e = *evals.local();
-    if (levels == 0) return refine(e, at, depth, out, parent, own, tighten_first, values);
+    if (levels == 0) return refine(e, at, depth, out, parent, own, hints, values);
     IGrad g;
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
+            classify(e, at, depth, parent, own, hints, g, smooth, kids, values)) {
       return emit(e, out, *l);
     }
     std::array<ChildValues, 8> v;
@@ -740,8 +751,8 @@ class Refiner {
       RoundingScope scope;
       const auto i = std::size_t(k);
       refine_parallel(evals, child(at, depth, k), depth + 1, levels - 1, parts[i],
-                      smooth ? &g : nullptr, kids.valid ? &kids.g[i] : nullptr,
-                      kids.valid && kids.pays, &v[i]);
+                      smooth ? &g : nullptr, kids.valid ? &kids.g[i] : nullptr, kids.hints(),
+                      &v[i]);
     });
     for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   }
@@ -750,20 +761,12 @@ class Refiner {
   /// subtrees below them, in refine()'s order (refine_spread()). The leaves are not counted
   /// (settle() counts every leaf of the loop at its end).
   void expand_top(Evaluators& e, const Index3& at, int depth, int levels, std::vector<Subtree>& out,
-                  const IGrad* parent = nullptr, const IGrad* own = nullptr,
-                  bool tighten_first = false, const ChildValues* values = nullptr) const {
+                  const IGrad* parent = nullptr, const IGrad* own = nullptr, std::uint8_t hints = 0,
+                  const ChildValues* values = nullptr) const {
     if (levels == 0) {
-      Subtree t{at,
-                depth,
-                {},
-                false,
-                parent != nullptr,
-                own != nullptr,
-                {},
-                {},
-                tighten_first,
-                values != nullptr,
-                {}};
+      Subtree t{
+          at, depth, {}, false, parent != nullptr, own != nullptr, {}, {}, hints, values != nullptr,
+          {}};
       if (parent) t.parent = *parent;
       if (own) t.own = *own;
       if (values) t.values = *values;
@@ -774,15 +777,15 @@ class Refiner {
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
-      out.push_back(Subtree{at, depth, *l, true, false, false, {}, {}, false, false, {}});
+            classify(e, at, depth, parent, own, hints, g, smooth, kids, values)) {
+      out.push_back(Subtree{at, depth, *l, true, false, false, {}, {}, 0, false, {}});
       return;
     }
     std::array<ChildValues, 8> v;
     evaluate_children(e, at, depth, smooth ? &g : nullptr, kids.valid, v);
     for (std::size_t k = 0; k < 8; ++k) {
       expand_top(e, child(at, depth, int(k)), depth + 1, levels - 1, out, smooth ? &g : nullptr,
-                 kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays, &v[k]);
+                 kids.valid ? &kids.g[k] : nullptr, kids.hints(), &v[k]);
     }
   }
 
@@ -881,6 +884,13 @@ class Refiner {
     return {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h};
   }
 
+  /// Refiner::refine()'s `hints` from a cell's parent: tighten() paid there (Children::pays),
+  /// so the cell tries it first (classify()); the centred form did not (Children::skip_centred).
+  static constexpr std::uint8_t kTightenFirst = 1, kSkipCentred = 2;
+  /// classify() tries the centred form of the gradient only where f's natural interval is at
+  /// least this many times its mean-value form's.
+  static constexpr double kOverestimated = 3.0;
+
   /// The gradient enclosures of a cell's 8 children (in child order), when classify evaluated
   /// them to tighten the cell's own (valid: all of them, none with domain trouble).
   struct Children {
@@ -889,7 +899,14 @@ class Refiner {
     /// the cell's enclosure was mostly overestimation, which tighten() removes, and its
     /// children are likely to gain from tighten() too.
     bool pays = false;
+    /// The centred form of the gradient was tried on the cell and did not pay (or the cell had
+    /// kSkipCentred): its children skip it too (on the twist, whose cells that fail the cone
+    /// test lie on the crease of a min, where the Hessian is unbounded, it never pays).
+    bool skip_centred = false;
     std::array<IGrad, 8> g;
+    std::uint8_t hints() const {
+      return std::uint8_t((valid && pays ? kTightenFirst : 0) | (skip_centred ? kSkipCentred : 0));
+    }
   };
 
   /// The leaf that the cell is (empty, certified, or uncertified at the depth limit), or nothing
@@ -897,7 +914,7 @@ class Refiner {
   /// `smooth` whether it is free of domain trouble; `kids` the children's gradient enclosures
   /// when they were evaluated (tighten()), for the children to reuse.
   std::optional<Leaf> classify(Evaluators& e, const Index3& at, int depth, const IGrad* parent,
-                               const IGrad* own, bool tighten_first, IGrad& g, bool& smooth,
+                               const IGrad* own, std::uint8_t hints, IGrad& g, bool& smooth,
                                Children& kids, const ChildValues* values = nullptr) const {
     const std::uint32_t s = grid_.size(depth);
     const Box3 b = grid_.box(at, s);
@@ -937,12 +954,26 @@ class Refiner {
       g = e.g.eval(IBox(b));
       smooth = !e.g.partial_domain();
     }
+    bool overestimated = false;  // the natural interval of f is kOverestimated times mv or more
     if (smooth && defined) {
       const Interval mv =
           fc ? intersect(expand(IBox(b), *fc, g.g), g.v) : mean_value(e, IBox(b), g);
       if (zero_free(mv)) return empty(at, depth, mv);
+      overestimated = g.v.width() >= kOverestimated * mv.width();
     }
     const bool may_certify = depth >= settings_.min_depth && smooth;
+    // Where the cone test fails, the natural gradient's overestimation may be what fails it (a
+    // polynomial with cancellation: the thin torus) and the centred form, whose overestimation
+    // shrinks with the square of the cell's size, then certifies the cell levels higher. The
+    // Hessian costs several gradient evaluations, so it is evaluated only where the natural
+    // interval of f overestimates too (measured against the mean-value form): on the thin torus
+    // and chubs, where the form pays, f's natural interval is 10 to 1000 times the mean-value
+    // form's; on the twist, where it never pays, less than 1.5 times.
+    kids.skip_centred = (hints & kSkipCentred) != 0;
+    if (may_certify && overestimated && settings_.centred_gradients && !kids.skip_centred &&
+        monotone(g) != kCone) {
+      kids.skip_centred = !centre_gradient(e, IBox(b), g);
+    }
     const bool may_tighten = may_certify && defined && depth < grid_.max_depth;
     std::optional<IGrad> tight;  // the tightened enclosure, when made before the first attempt
     bool tried = false;          // tighten() was called (and failed unless `tight`)
@@ -951,12 +982,12 @@ class Refiner {
       // A cell that only a fixed direction proves monotone must prove faces and edges as well
       // (locally_certified); on the thin torus that costs more than the 8 gradient evaluations
       // of tighten(), after which the cone test alone certifies 9 in 10 of those cells. So
-      // tighten() comes first there: where the parent's paid (`tighten_first`; on the twist,
+      // tighten() comes first there: where the parent's paid (kTightenFirst; on the twist,
       // whose enclosures are tight already, it would mostly be wasted). The leaf is the one the
       // rules' order gives: a cell that either attempt certifies is certified; where the
       // tightened value is zero-free (empty, unless the first attempt certifies) or fails the
       // cone test, both attempts run as they would.
-      if (tighten_first && may_tighten && !settings_.strict && monotone(g) >= 0) {
+      if ((hints & kTightenFirst) && may_tighten && !settings_.strict && monotone(g) >= 0) {
         IGrad t = g;
         tried = true;
         if (tighten(e, at, depth, t, kids)) {
@@ -983,6 +1014,42 @@ class Refiner {
       return Leaf{at, std::uint8_t(depth), Kind::kCertified, 0};
     }
     return std::nullopt;
+  }
+
+  /// Bounds the gradient enclosure `g` of box b by the centred form as well: g(c) + H(b) (b - c)
+  /// around b's centre c (IntervalHessEval, centred_gradient). True when that narrowed the
+  /// partials' widths (summed) to kCentredPays of theirs or less.
+  static constexpr double kCentredPays = 0.75;
+  static bool centre_gradient(Evaluators& e, const IBox& b, IGrad& g) {
+    if (!e.kinks.empty()) {
+      // A crease of min or max in the cell (which the natural interval sees as an undecided
+      // choice) leaves the Hessian unbounded and the centred form useless: the interval value,
+      // a fraction of the Hessian's cost, tells.
+      ++e.evaluations;
+      e.f.eval(b);
+      for (const std::size_t i : e.kinks) {
+        if (e.f.choices()[i] == 0) return false;
+      }
+    }
+    Vec3 c;
+    IBox point;
+    for (int a = 0; a < 3; ++a) point[a] = Interval(c[a] = centre(b, a));
+    e.evaluations += 2;
+    const IGrad gc = e.g.eval(point);
+    if (e.g.partial_domain()) return false;
+    const IHess h = e.h.eval(b);
+    if (e.h.partial_domain()) return false;
+    const std::array<Interval, 3> r = centred_gradient(b, c, gc.g, h.h);
+    double before = 0, after = 0;
+    for (std::size_t a = 0; a < 3; ++a) {
+      before += g.g[a].width();
+      // Two enclosures of the same partials cannot be disjoint; should rounding ever make them
+      // so, the cell keeps its own.
+      const Interval t = intersect(g.g[a], r[a]);
+      if (!t.is_empty()) g.g[a] = t;
+      after += g.g[a].width();
+    }
+    return after <= kCentredPays * before;
   }
 
   static Leaf empty(const Index3& at, int depth, const Interval& v) {
@@ -2159,8 +2226,7 @@ Leaves refine_spread(const Refiner& r, const std::vector<std::pair<Index3, int>>
           out.clear();
           try {
             r.refine(e, t.at, t.depth, out, t.has_parent ? &t.parent : nullptr,
-                     t.has_own ? &t.own : nullptr, t.tighten_first,
-                     t.has_values ? &t.values : nullptr);
+                     t.has_own ? &t.own : nullptr, t.hints, t.has_values ? &t.values : nullptr);
           } catch (const SettingError&) {  // this process alone is over the box limit
             over.store(true);
             put_bytes(res, std::uint8_t{1});

@@ -283,6 +283,36 @@ TEST(CertifiedMesher, SimpleLeavesTableGivesTheMeshOfFaceCutting) {
   }
 }
 
+// The centred form of the gradient (CertifiedMeshSettings::centred_gradients) certifies cells of
+// the thin torus whose natural gradient enclosure fails the cone test only by overestimation: the
+// same torus, certified, from far fewer leaves (137 036 against 332 700 when it was added), and
+// the same mesh for any thread count.
+TEST(CertifiedMesher, CentredGradientsCertifyTheThinTorusWithFewerLeaves) {
+  const std::string f = "(x^2+y^2+z^2+0.999991)^2 - 4*(x^2+y^2)";
+  const Box3 b{{-1.05, -1.05, -0.05}, {1.05, 1.05, 0.05}};
+  const Tape tape = Tape::parse(f);
+  CertifiedMeshSettings s = settings_for(b, 0);
+  Checked centred{mesh_certified(tape, s, Exec{}), {}};
+  centred.report = analyze_mesh(centred.mesh.soup, &tape);
+  s.centred_gradients = false;
+  Checked natural{mesh_certified(tape, s, Exec{}), {}};
+  natural.report = analyze_mesh(natural.mesh.soup, &tape);
+  for (const Checked* c : {&centred, &natural}) {
+    expect_certified_closed(*c);
+    EXPECT_EQ(c->report.components, 1u);
+    EXPECT_EQ(c->report.euler, 0);
+  }
+  EXPECT_LT(centred.mesh.stats.leaves, natural.mesh.stats.leaves / 2);
+  Exec three;
+  three.threads = 3;
+  const CertifiedMesh again = mesh_certified(tape, settings_for(b, 0), three);
+  EXPECT_EQ(again.soup.triangles, centred.mesh.soup.triangles);
+  ASSERT_EQ(again.soup.vertices.size(), centred.mesh.soup.vertices.size());
+  for (std::size_t i = 0; i < again.soup.vertices.size(); ++i) {
+    EXPECT_EQ(again.soup.vertices[i], centred.mesh.soup.vertices[i]);
+  }
+}
+
 TEST(CertifiedMesher, SameMeshForAnyThreadCount) {
   const std::string f = "(x^2 + y^2 + z^2 + 1 - 0.0625)^2 - 4*(x^2 + y^2)";
   const Box3 b{{-1.3, -1.3, -0.3}, {1.3, 1.3, 0.3}};
