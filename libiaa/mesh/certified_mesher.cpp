@@ -697,8 +697,8 @@ struct Subtree {
   bool done;
   bool has_parent, has_own;
   IGrad parent, own;
-  std::uint8_t hints = 0;   ///< Refiner::refine()'s `hints`
-  bool has_values = false;  ///< what its parent evaluated for it (Refiner::refine()'s `values`)
+  bool tighten_first = false;  ///< Refiner::refine()'s `tighten_first`
+  bool has_values = false;     ///< what its parent evaluated for it (Refiner::refine()'s `values`)
   ChildValues values;
 };
 
@@ -710,23 +710,23 @@ class Refiner {
       : grid_(g), settings_(s), count_(count), progress_(progress) {}
 
   /// `parent`: the gradient enclosure of the cell's parent, if it has one without domain
-  /// trouble; `own`: the cell's own, if its parent evaluated it (Children); `hints`: what paid
-  /// in its parent (Children::hints, kTightenFirst and kSkipCentred), for classify().
+  /// trouble; `own`: the cell's own, if its parent evaluated it (Children); `tighten_first`:
+  /// the parent's tighten() paid (Children::pays), so the cell tries it first (classify()).
   void refine(Evaluators& e, const Index3& at, int depth, Leaves& out,
-              const IGrad* parent = nullptr, const IGrad* own = nullptr, std::uint8_t hints = 0,
+              const IGrad* parent = nullptr, const IGrad* own = nullptr, bool tighten_first = false,
               const ChildValues* values = nullptr) const {
     IGrad g;
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, hints, g, smooth, kids, values)) {
+            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
       return emit(e, out, *l);
     }
     std::array<ChildValues, 8> v;
     evaluate_children(e, at, depth, smooth ? &g : nullptr, kids.valid, v);
     for (std::size_t k = 0; k < 8; ++k) {
       refine(e, child(at, depth, int(k)), depth + 1, out, smooth ? &g : nullptr,
-             kids.valid ? &kids.g[k] : nullptr, kids.hints(), &v[k]);
+             kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays, &v[k]);
     }
   }
 
@@ -734,14 +734,14 @@ class Refiner {
   /// scene of one root cell would use one thread otherwise); the same leaves in the same order.
   void refine_parallel(ThreadEvaluators& evals, const Index3& at, int depth, int levels,
                        Leaves& out, const IGrad* parent = nullptr, const IGrad* own = nullptr,
-                       std::uint8_t hints = 0, const ChildValues* values = nullptr) const {
+                       bool tighten_first = false, const ChildValues* values = nullptr) const {
     Evaluators& e = *evals.local();
-    if (levels == 0) return refine(e, at, depth, out, parent, own, hints, values);
+    if (levels == 0) return refine(e, at, depth, out, parent, own, tighten_first, values);
     IGrad g;
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, hints, g, smooth, kids, values)) {
+            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
       return emit(e, out, *l);
     }
     std::array<ChildValues, 8> v;
@@ -751,8 +751,8 @@ class Refiner {
       RoundingScope scope;
       const auto i = std::size_t(k);
       refine_parallel(evals, child(at, depth, k), depth + 1, levels - 1, parts[i],
-                      smooth ? &g : nullptr, kids.valid ? &kids.g[i] : nullptr, kids.hints(),
-                      &v[i]);
+                      smooth ? &g : nullptr, kids.valid ? &kids.g[i] : nullptr,
+                      kids.valid && kids.pays, &v[i]);
     });
     for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   }
@@ -761,12 +761,20 @@ class Refiner {
   /// subtrees below them, in refine()'s order (refine_spread()). The leaves are not counted
   /// (settle() counts every leaf of the loop at its end).
   void expand_top(Evaluators& e, const Index3& at, int depth, int levels, std::vector<Subtree>& out,
-                  const IGrad* parent = nullptr, const IGrad* own = nullptr, std::uint8_t hints = 0,
-                  const ChildValues* values = nullptr) const {
+                  const IGrad* parent = nullptr, const IGrad* own = nullptr,
+                  bool tighten_first = false, const ChildValues* values = nullptr) const {
     if (levels == 0) {
-      Subtree t{
-          at, depth, {}, false, parent != nullptr, own != nullptr, {}, {}, hints, values != nullptr,
-          {}};
+      Subtree t{at,
+                depth,
+                {},
+                false,
+                parent != nullptr,
+                own != nullptr,
+                {},
+                {},
+                tighten_first,
+                values != nullptr,
+                {}};
       if (parent) t.parent = *parent;
       if (own) t.own = *own;
       if (values) t.values = *values;
@@ -777,15 +785,15 @@ class Refiner {
     bool smooth = false;
     Children kids;
     if (const std::optional<Leaf> l =
-            classify(e, at, depth, parent, own, hints, g, smooth, kids, values)) {
-      out.push_back(Subtree{at, depth, *l, true, false, false, {}, {}, 0, false, {}});
+            classify(e, at, depth, parent, own, tighten_first, g, smooth, kids, values)) {
+      out.push_back(Subtree{at, depth, *l, true, false, false, {}, {}, false, false, {}});
       return;
     }
     std::array<ChildValues, 8> v;
     evaluate_children(e, at, depth, smooth ? &g : nullptr, kids.valid, v);
     for (std::size_t k = 0; k < 8; ++k) {
       expand_top(e, child(at, depth, int(k)), depth + 1, levels - 1, out, smooth ? &g : nullptr,
-                 kids.valid ? &kids.g[k] : nullptr, kids.hints(), &v[k]);
+                 kids.valid ? &kids.g[k] : nullptr, kids.valid && kids.pays, &v[k]);
     }
   }
 
@@ -884,12 +892,9 @@ class Refiner {
     return {at[0] + (k & 1) * h, at[1] + ((k >> 1) & 1) * h, at[2] + ((k >> 2) & 1) * h};
   }
 
-  /// Refiner::refine()'s `hints` from a cell's parent: tighten() paid there (Children::pays),
-  /// so the cell tries it first (classify()); the centred form did not (Children::skip_centred).
-  static constexpr std::uint8_t kTightenFirst = 1, kSkipCentred = 2;
   /// classify() tries the centred form of the gradient only where f's natural interval is at
   /// least this many times its mean-value form's.
-  static constexpr double kOverestimated = 3.0;
+  static constexpr double kOverestimated = 2.0;
 
   /// The gradient enclosures of a cell's 8 children (in child order), when classify evaluated
   /// them to tighten the cell's own (valid: all of them, none with domain trouble).
@@ -899,14 +904,7 @@ class Refiner {
     /// the cell's enclosure was mostly overestimation, which tighten() removes, and its
     /// children are likely to gain from tighten() too.
     bool pays = false;
-    /// The centred form of the gradient was tried on the cell and did not pay (or the cell had
-    /// kSkipCentred): its children skip it too (on the twist, whose cells that fail the cone
-    /// test lie on the crease of a min, where the Hessian is unbounded, it never pays).
-    bool skip_centred = false;
     std::array<IGrad, 8> g;
-    std::uint8_t hints() const {
-      return std::uint8_t((valid && pays ? kTightenFirst : 0) | (skip_centred ? kSkipCentred : 0));
-    }
   };
 
   /// The leaf that the cell is (empty, certified, or uncertified at the depth limit), or nothing
@@ -914,7 +912,7 @@ class Refiner {
   /// `smooth` whether it is free of domain trouble; `kids` the children's gradient enclosures
   /// when they were evaluated (tighten()), for the children to reuse.
   std::optional<Leaf> classify(Evaluators& e, const Index3& at, int depth, const IGrad* parent,
-                               const IGrad* own, std::uint8_t hints, IGrad& g, bool& smooth,
+                               const IGrad* own, bool tighten_first, IGrad& g, bool& smooth,
                                Children& kids, const ChildValues* values = nullptr) const {
     const std::uint32_t s = grid_.size(depth);
     const Box3 b = grid_.box(at, s);
@@ -968,11 +966,9 @@ class Refiner {
     // Hessian costs several gradient evaluations, so it is evaluated only where the natural
     // interval of f overestimates too (measured against the mean-value form): on the thin torus
     // and chubs, where the form pays, f's natural interval is 10 to 1000 times the mean-value
-    // form's; on the twist, where it never pays, less than 1.5 times.
-    kids.skip_centred = (hints & kSkipCentred) != 0;
-    if (may_certify && overestimated && settings_.centred_gradients && !kids.skip_centred &&
-        monotone(g) != kCone) {
-      kids.skip_centred = !centre_gradient(e, IBox(b), g);
+    // form's; on the twist, where it never narrowed a gradient, less than 1.5 times.
+    if (may_certify && overestimated && settings_.centred_gradients && monotone(g) != kCone) {
+      centre_gradient(e, IBox(b), g);
     }
     const bool may_tighten = may_certify && defined && depth < grid_.max_depth;
     std::optional<IGrad> tight;  // the tightened enclosure, when made before the first attempt
@@ -982,12 +978,12 @@ class Refiner {
       // A cell that only a fixed direction proves monotone must prove faces and edges as well
       // (locally_certified); on the thin torus that costs more than the 8 gradient evaluations
       // of tighten(), after which the cone test alone certifies 9 in 10 of those cells. So
-      // tighten() comes first there: where the parent's paid (kTightenFirst; on the twist,
+      // tighten() comes first there: where the parent's paid (`tighten_first`; on the twist,
       // whose enclosures are tight already, it would mostly be wasted). The leaf is the one the
       // rules' order gives: a cell that either attempt certifies is certified; where the
       // tightened value is zero-free (empty, unless the first attempt certifies) or fails the
       // cone test, both attempts run as they would.
-      if ((hints & kTightenFirst) && may_tighten && !settings_.strict && monotone(g) >= 0) {
+      if (tighten_first && may_tighten && !settings_.strict && monotone(g) >= 0) {
         IGrad t = g;
         tried = true;
         if (tighten(e, at, depth, t, kids)) {
@@ -1017,10 +1013,8 @@ class Refiner {
   }
 
   /// Bounds the gradient enclosure `g` of box b by the centred form as well: g(c) + H(b) (b - c)
-  /// around b's centre c (IntervalHessEval, centred_gradient). True when that narrowed the
-  /// partials' widths (summed) to kCentredPays of theirs or less.
-  static constexpr double kCentredPays = 0.75;
-  static bool centre_gradient(Evaluators& e, const IBox& b, IGrad& g) {
+  /// around b's centre c (IntervalHessEval, centred_gradient).
+  static void centre_gradient(Evaluators& e, const IBox& b, IGrad& g) {
     if (!e.kinks.empty()) {
       // A crease of min or max in the cell (which the natural interval sees as an undecided
       // choice) leaves the Hessian unbounded and the centred form useless: the interval value,
@@ -1028,7 +1022,7 @@ class Refiner {
       ++e.evaluations;
       e.f.eval(b);
       for (const std::size_t i : e.kinks) {
-        if (e.f.choices()[i] == 0) return false;
+        if (e.f.choices()[i] == 0) return;
       }
     }
     Vec3 c;
@@ -1036,20 +1030,16 @@ class Refiner {
     for (int a = 0; a < 3; ++a) point[a] = Interval(c[a] = centre(b, a));
     e.evaluations += 2;
     const IGrad gc = e.g.eval(point);
-    if (e.g.partial_domain()) return false;
+    if (e.g.partial_domain()) return;
     const IHess h = e.h.eval(b);
-    if (e.h.partial_domain()) return false;
+    if (e.h.partial_domain()) return;
     const std::array<Interval, 3> r = centred_gradient(b, c, gc.g, h.h);
-    double before = 0, after = 0;
     for (std::size_t a = 0; a < 3; ++a) {
-      before += g.g[a].width();
       // Two enclosures of the same partials cannot be disjoint; should rounding ever make them
       // so, the cell keeps its own.
       const Interval t = intersect(g.g[a], r[a]);
       if (!t.is_empty()) g.g[a] = t;
-      after += g.g[a].width();
     }
-    return after <= kCentredPays * before;
   }
 
   static Leaf empty(const Index3& at, int depth, const Interval& v) {
@@ -2226,7 +2216,8 @@ Leaves refine_spread(const Refiner& r, const std::vector<std::pair<Index3, int>>
           out.clear();
           try {
             r.refine(e, t.at, t.depth, out, t.has_parent ? &t.parent : nullptr,
-                     t.has_own ? &t.own : nullptr, t.hints, t.has_values ? &t.values : nullptr);
+                     t.has_own ? &t.own : nullptr, t.tighten_first,
+                     t.has_values ? &t.values : nullptr);
           } catch (const SettingError&) {  // this process alone is over the box limit
             over.store(true);
             put_bytes(res, std::uint8_t{1});
