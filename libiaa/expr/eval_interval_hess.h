@@ -71,6 +71,13 @@ inline IHess rough(const Interval& v) {
   r.h = whole();
   return r;
 }
+/// The value v of min or max at a crease inside the box: the gradient the hull of both sides',
+/// the Hessian unknown.
+inline IHess crease(const Interval& v, const IHess& a, const IHess& b) {
+  IHess r = rough(v);
+  r.g = igrad::hulls(a.g, b.g, kAllVars);
+  return r;
+}
 }  // namespace ihess
 
 // Rules of the interval + gradient + Hessian mode. Each rule is the interval extension of the
@@ -219,18 +226,12 @@ struct IntervalHessRules {
   static IHess min(const IHess& a, const IHess& b, std::uint8_t* c) {
     *c = min_choice(a.v, b.v);
     if (*c == 1) return a;
-    if (*c == 2) return b;
-    IHess r = ihess::rough(iaa::min(a.v, b.v));
-    r.g = igrad::hulls(a.g, b.g, kAllVars);
-    return r;
+    return *c == 2 ? b : ihess::crease(iaa::min(a.v, b.v), a, b);
   }
   static IHess max(const IHess& a, const IHess& b, std::uint8_t* c) {
     *c = max_choice(a.v, b.v);
     if (*c == 1) return a;
-    if (*c == 2) return b;
-    IHess r = ihess::rough(iaa::max(a.v, b.v));
-    r.g = igrad::hulls(a.g, b.g, kAllVars);
-    return r;
+    return *c == 2 ? b : ihess::crease(iaa::max(a.v, b.v), a, b);
   }
 };
 

@@ -157,4 +157,31 @@ class RandomExpr {
   std::mt19937_64 rng_;
 };
 
+/// Calls `f(box)` for each box of the hard-box suites: [a, b] x [min(b, 1), max(b, 1)] x {0} for
+/// every pair a <= b of hand-picked ends (huge, poles of tan, domain edges of sqrt and log, tiny
+/// and zero widths, exp's overflow).
+template <class F>
+void for_each_hard_box(F&& f) {
+  static constexpr double kEnds[] = {-1e300,
+                                     -1e9,
+                                     -3.2,
+                                     -1.5707963267948966,
+                                     -1,
+                                     -1e-300,
+                                     0,
+                                     1e-300,
+                                     0.5,
+                                     1,
+                                     1.5707963267948966,
+                                     3.141592653589793,
+                                     709,
+                                     1e9};
+  for (double a : kEnds) {
+    for (double b : kEnds) {
+      if (a > b) continue;
+      f(IBox(Interval(a, b), Interval(b > 1 ? 1.0 : b, std::fmax(b, 1.0)), Interval(0.0)));
+    }
+  }
+}
+
 }  // namespace iaa::testing
