@@ -71,6 +71,24 @@ inline IHess rough(const Interval& v) {
   r.h = whole();
   return r;
 }
+/// f applied to every component (value, partials, Hessian entries) of a: a linear rule.
+template <class F>
+inline IHess each(const IHess& a, F f) {
+  IHess r;
+  r.v = f(a.v);
+  for (std::size_t i = 0; i < 3; ++i) r.g[i] = f(a.g[i]);
+  for (std::size_t k = 0; k < 6; ++k) r.h[k] = f(a.h[k]);
+  return r;
+}
+/// f applied to every pair of components of a and b: a linear rule.
+template <class F>
+inline IHess each(const IHess& a, const IHess& b, F f) {
+  IHess r;
+  r.v = f(a.v, b.v);
+  for (std::size_t i = 0; i < 3; ++i) r.g[i] = f(a.g[i], b.g[i]);
+  for (std::size_t k = 0; k < 6; ++k) r.h[k] = f(a.h[k], b.h[k]);
+  return r;
+}
 /// The value v of min or max at a crease inside the box: the gradient the hull of both sides',
 /// the Hessian unknown.
 inline IHess crease(const Interval& v, const IHess& a, const IHess& b) {
@@ -92,25 +110,13 @@ struct IntervalHessRules {
     return r;
   }
   static IHess add(const IHess& a, const IHess& b) {
-    IHess r;
-    r.v = a.v + b.v;
-    for (std::size_t i = 0; i < 3; ++i) r.g[i] = a.g[i] + b.g[i];
-    for (std::size_t k = 0; k < 6; ++k) r.h[k] = a.h[k] + b.h[k];
-    return r;
+    return ihess::each(a, b, [](const Interval& x, const Interval& y) { return x + y; });
   }
   static IHess sub(const IHess& a, const IHess& b) {
-    IHess r;
-    r.v = a.v - b.v;
-    for (std::size_t i = 0; i < 3; ++i) r.g[i] = a.g[i] - b.g[i];
-    for (std::size_t k = 0; k < 6; ++k) r.h[k] = a.h[k] - b.h[k];
-    return r;
+    return ihess::each(a, b, [](const Interval& x, const Interval& y) { return x - y; });
   }
   static IHess neg(const IHess& a) {
-    IHess r;
-    r.v = -a.v;
-    for (std::size_t i = 0; i < 3; ++i) r.g[i] = -a.g[i];
-    for (std::size_t k = 0; k < 6; ++k) r.h[k] = -a.h[k];
-    return r;
+    return ihess::each(a, [](const Interval& x) { return -x; });
   }
   // (ab)_ij = a_ij b + a b_ij + a_i b_j + a_j b_i
   static IHess mul(const IHess& a, const IHess& b) {
@@ -126,18 +132,10 @@ struct IntervalHessRules {
     return r;
   }
   static IHess scale(const IHess& a, double c) {
-    IHess r;
-    r.v = iaa::scale(a.v, c);
-    for (std::size_t i = 0; i < 3; ++i) r.g[i] = iaa::scale(a.g[i], c);
-    for (std::size_t k = 0; k < 6; ++k) r.h[k] = iaa::scale(a.h[k], c);
-    return r;
+    return ihess::each(a, [c](const Interval& x) { return iaa::scale(x, c); });
   }
   static IHess div_const(const IHess& a, double c) {
-    IHess r;
-    r.v = iaa::div_const(a.v, c);
-    for (std::size_t i = 0; i < 3; ++i) r.g[i] = iaa::div_const(a.g[i], c);
-    for (std::size_t k = 0; k < 6; ++k) r.h[k] = iaa::div_const(a.h[k], c);
-    return r;
+    return ihess::each(a, [c](const Interval& x) { return iaa::div_const(x, c); });
   }
   // a / b = a (1/b), with (1/b)' = -1/b^2 and (1/b)'' = 2/b^3.
   static IHess div(const IHess& a, const IHess& b, Domain* d) {
