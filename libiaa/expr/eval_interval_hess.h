@@ -11,7 +11,10 @@
 //
 // Where f is not twice differentiable somewhere in the box (a kink of abs, min or max that the box
 // does not decide; sqrt, log or a real power at 0; a pole) the second derivatives there are
-// unbounded ([-inf, inf]): the centred form then gives nothing, never a wrong bound.
+// unbounded ([-inf, inf]): the centred form then gives nothing, never a wrong bound. This holds
+// along the axes where the box has width: along an axis where it is a point, an entry may be a
+// one-sided value (abs(x) y over x = [0, 0] gives H_xy = 1), which centred_gradient never uses
+// (a point axis adds nothing to the form).
 #pragma once
 
 #include <array>
