@@ -43,19 +43,13 @@ namespace detail {
 
 namespace ihess {
 using G = std::array<Interval, 3>;
-using H = std::array<Interval, 6>;
 /// The pairs (i, j), i <= j, of each entry of IHess::h.
 inline constexpr std::size_t kRow[6] = {0, 0, 0, 1, 1, 2};
 inline constexpr std::size_t kCol[6] = {0, 1, 2, 1, 2, 2};
 
-inline H whole() {
-  H h;
-  h.fill(Interval::whole());
-  return h;
-}
-/// g_i g_j as intervals, tight on the diagonal (g_i^2 >= 0).
-inline Interval outer(const G& a, const G& b, std::size_t k) {
-  return kRow[k] == kCol[k] && &a == &b ? square(a[kRow[k]]) : a[kRow[k]] * b[kCol[k]];
+/// Entry k of the outer product g g^T, tight on the diagonal (g_i^2 >= 0).
+inline Interval outer(const G& g, std::size_t k) {
+  return kRow[k] == kCol[k] ? square(g[kRow[k]]) : g[kRow[k]] * g[kCol[k]];
 }
 /// phi(u) for phi' in d1 and phi'' in d2 over u's values (the chain rule):
 /// g_i = d1 u_i, h_ij = d1 u_ij + d2 u_i u_j.
@@ -63,7 +57,7 @@ inline IHess chain(const Interval& v, const IHess& u, const Interval& d1, const 
   IHess r;
   r.v = v;
   for (std::size_t i = 0; i < 3; ++i) r.g[i] = d1 * u.g[i];
-  for (std::size_t k = 0; k < 6; ++k) r.h[k] = d1 * u.h[k] + d2 * outer(u.g, u.g, k);
+  for (std::size_t k = 0; k < 6; ++k) r.h[k] = d1 * u.h[k] + d2 * outer(u.g, k);
   return r;
 }
 /// A value whose derivatives are unknown (not differentiable, or a pole, somewhere in the box).
@@ -71,7 +65,7 @@ inline IHess rough(const Interval& v) {
   IHess r;
   r.v = v;
   r.g.fill(Interval::whole());
-  r.h = whole();
+  r.h.fill(Interval::whole());
   return r;
 }
 /// f applied to every component (value, partials, Hessian entries) of a: a linear rule.

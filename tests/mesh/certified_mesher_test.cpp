@@ -13,6 +13,7 @@
 
 #include "core/error.h"
 #include "mesh/mesh_report.h"
+#include "mesh/mesh_test_util.h"
 #include "mesh/self_intersections.h"
 #include "test_progress.h"
 #include "test_scenes.h"
@@ -273,11 +274,7 @@ TEST(CertifiedMesher, SimpleLeavesTableGivesTheMeshOfFaceCutting) {
     s.simple_leaves = false;
     const CertifiedMesh cut = mesh_certified(tape, s, Exec{});
     EXPECT_GT(table.soup.triangles.size(), 0u);
-    EXPECT_EQ(table.soup.triangles, cut.soup.triangles);
-    ASSERT_EQ(table.soup.vertices.size(), cut.soup.vertices.size());
-    for (std::size_t i = 0; i < table.soup.vertices.size(); ++i) {
-      EXPECT_EQ(table.soup.vertices[i], cut.soup.vertices[i]);
-    }
+    test::expect_same_soup(table.soup, cut.soup);
     EXPECT_EQ(table.stats.leaves, cut.stats.leaves);
     EXPECT_EQ(table.stats.uncertified_leaves, cut.stats.uncertified_leaves);
   }
@@ -306,22 +303,14 @@ TEST(CertifiedMesher, CentredGradientsCertifyTheThinTorusWithFewerLeaves) {
   Exec three;
   three.threads = 3;
   const CertifiedMesh again = mesh_certified(tape, settings_for(b, 0), three);
-  EXPECT_EQ(again.soup.triangles, centred.mesh.soup.triangles);
-  ASSERT_EQ(again.soup.vertices.size(), centred.mesh.soup.vertices.size());
-  for (std::size_t i = 0; i < again.soup.vertices.size(); ++i) {
-    EXPECT_EQ(again.soup.vertices[i], centred.mesh.soup.vertices[i]);
-  }
+  test::expect_same_soup(again.soup, centred.mesh.soup);
 }
 
 TEST(CertifiedMesher, SameMeshForAnyThreadCount) {
   const std::string f = "(x^2 + y^2 + z^2 + 1 - 0.0625)^2 - 4*(x^2 + y^2)";
   const Box3 b{{-1.3, -1.3, -0.3}, {1.3, 1.3, 0.3}};
   const Checked one = run(f, b, 3, 1), two = run(f, b, 3, 2);
-  ASSERT_EQ(one.mesh.soup.vertices.size(), two.mesh.soup.vertices.size());
-  EXPECT_EQ(one.mesh.soup.triangles, two.mesh.soup.triangles);
-  for (std::size_t i = 0; i < one.mesh.soup.vertices.size(); ++i) {
-    EXPECT_EQ(one.mesh.soup.vertices[i], two.mesh.soup.vertices[i]);
-  }
+  test::expect_same_soup(one.mesh.soup, two.mesh.soup);
 }
 
 TEST(CertifiedMesher, FidelitySplitKeepsABladeCertifiedAndThreadIndependent) {
@@ -332,11 +321,7 @@ TEST(CertifiedMesher, FidelitySplitKeepsABladeCertifiedAndThreadIndependent) {
   expect_certified_closed(two);
   EXPECT_EQ(two.report.components, 1u);
   EXPECT_EQ(two.report.euler, 2);
-  ASSERT_EQ(one.mesh.soup.vertices.size(), two.mesh.soup.vertices.size());
-  EXPECT_EQ(one.mesh.soup.triangles, two.mesh.soup.triangles);
-  for (std::size_t i = 0; i < one.mesh.soup.vertices.size(); ++i) {
-    EXPECT_EQ(one.mesh.soup.vertices[i], two.mesh.soup.vertices[i]);
-  }
+  test::expect_same_soup(one.mesh.soup, two.mesh.soup);
 }
 
 TEST(CertifiedMesher, TeardropNeckIsReportedUncertifiedButMeshed) {

@@ -1,14 +1,25 @@
 // Shared helpers of the mesh tests: a small, self-contained enclosure (so the mesher's extraction
-// is tested independently of enclose()), with optional forced refinement to mix cell depths.
+// is tested independently of enclose()), with optional forced refinement to mix cell depths; and
+// the check that two meshes are the same, vertex for vertex and triangle for triangle.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <functional>
 
 #include "enclose/octree.h"
 #include "expr/eval_interval.h"
 #include "expr/tape.h"
+#include "mesh/triangle_soup.h"
 
 namespace iaa::test {
+
+/// The same triangles and the same vertices, bit for bit.
+inline void expect_same_soup(const TriangleSoup& a, const TriangleSoup& b) {
+  EXPECT_EQ(a.triangles, b.triangles);
+  ASSERT_EQ(a.vertices.size(), b.vertices.size());
+  for (std::size_t i = 0; i < a.vertices.size(); ++i) EXPECT_EQ(a.vertices[i], b.vertices[i]);
+}
 
 /// Splits the bounds to `depth`, discards cells with 0 outside F, classifies leaves by certified
 /// corner signs, refines possible leaves up to `refine` levels further, and additionally splits

@@ -186,10 +186,7 @@ TEST(OctreeMesher, OutputIsIdenticalForAnyThreadCount) {
   two.threads = 2;
   const OctreeMesh a = extract_mesh(tape, enc, settings_for(b), one);
   const OctreeMesh c = extract_mesh(tape, enc, settings_for(b), two);
-  ASSERT_EQ(a.soup.vertices.size(), c.soup.vertices.size());
-  EXPECT_EQ(a.soup.triangles, c.soup.triangles);
-  for (std::size_t i = 0; i < a.soup.vertices.size(); ++i)
-    EXPECT_EQ(a.soup.vertices[i], c.soup.vertices[i]);
+  test::expect_same_soup(a.soup, c.soup);
 }
 
 TEST(OctreeMesher, SettingsAreValidated) {
