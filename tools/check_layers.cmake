@@ -4,7 +4,9 @@
 #   - a file of libiaa/<module>/ includes a header of a module <module> does not depend on;
 #   - a file of viz/ includes a header of tools/ (viz sits below the tools, beside them);
 #   - a VTK header is included outside viz/, or a CGAL or OpenMesh header outside libiaa/mesh/;
-#   - <mpi.h> is included outside libiaa/dist/.
+#   - <mpi.h> is included outside libiaa/dist/;
+#   - the iaa command (tools/iaa/) includes a header of viz/ other than viz/plugin_api.h: it does
+#     not link VTK, and reaches viz/ through the plugin alone (tools/iaa/viz_plugin.h).
 # Tests are not checked: a test may reach into any module.
 cmake_minimum_required(VERSION 3.22)
 if(NOT ROOT OR NOT LAYERS)
@@ -44,6 +46,9 @@ foreach(file ${files})
   foreach(line ${lines})
     if(line MATCHES "include[ \t]*\"([a-z_]+)/")
       set(part ${CMAKE_MATCH_1})
+      if(file MATCHES "^tools/iaa/" AND part STREQUAL "viz" AND NOT line MATCHES "\"viz/plugin_api[.]h\"")
+        string(APPEND errors "${file}: the iaa command reaches viz/ through its plugin only (viz/plugin_api.h): ${line}\n")
+      endif()
       if(NOT area STREQUAL "tools")
         if(part IN_LIST tool_roots)
           string(APPEND errors "${file}: ${area} must not include the tools' headers: ${line}\n")

@@ -1,6 +1,7 @@
 # What `cmake --install` puts under the prefix, and the Debian package `cpack -G DEB` makes of it
 # (docs/install.md):
 #   bin/iaa, bin/iaa-viz                          the commands
+#   lib/iaa/libiaa_vtk.so                         the iaa command's VTK plugin (viz/plugin_api.h)
 #   lib/libiaa_<module>.a, include/iaa/<module>/  the library modules and their headers
 #   lib/cmake/iaa/                                the package: find_package(iaa), iaa::iaa ...
 #   share/iaa/scenes/*.toml                       the bundled scenes (the demo's teardrop)

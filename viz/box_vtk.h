@@ -9,15 +9,9 @@
 #include <vtkUnstructuredGrid.h>
 
 #include "core/vec.h"
+#include "viz/plugin_api.h"  // LabelledBox
 
 namespace iaa::viz {
-
-/// One box and the two numbers stored with it as cell arrays.
-struct LabelledBox {
-  Box3 box;
-  int depth = 0;   ///< cell array `depth`
-  int reason = 0;  ///< cell array `reason`
-};
 
 /// The boxes as VTK_VOXEL cells with cell arrays `depth` and `reason` and field data
 /// `expression` and `format` ("iaa-boxes 1"); iaa-viz shows such a grid as uncertified cells.

@@ -30,16 +30,6 @@ vtkStandardNewMacro(EveryPieceWriter);
 
 }  // namespace
 
-std::vector<std::string> pvtu_piece_paths(const std::string& path, int pieces) {
-  const std::filesystem::path p(path);
-  std::vector<std::string> out;
-  for (int k = 0; k < pieces; ++k) {
-    out.push_back(
-        (p.parent_path() / (p.stem().string() + "_" + std::to_string(k) + ".vtu")).string());
-  }
-  return out;
-}
-
 void write_enclosure_pvtu(const std::string& path, const Enclosure& enc, const EnclosureInfo& info,
                           int piece, int pieces, bool summary) {
   IAA_CHECK(pieces >= 1 && piece >= 0 && piece < pieces);

@@ -12,9 +12,7 @@
 
 namespace iaa::viz {
 
-/// The file names of an enclosure in `pieces` pieces written as `path` (a .pvtu): the summary
-/// `path` itself, and the pieces `STEM_K.vtu` beside it (STEM is path without its extension).
-std::vector<std::string> pvtu_piece_paths(const std::string& path, int pieces);
+// pvtu_piece_paths(path, pieces), the file names of the pieces, is in viz/plugin_api.h.
 
 /// Writes piece `piece` of `pieces` (cells [piece * N / pieces, (piece + 1) * N / pieces) of the
 /// enclosure) as `STEM_piece.vtu` beside `path`, and also the summary `path`, naming all the

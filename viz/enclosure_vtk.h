@@ -18,16 +18,11 @@
 
 #include "core/exec.h"
 #include "enclose/octree.h"
+#include "viz/plugin_api.h"  // EnclosureInfo, VtuWriteTimes
 
 class vtkUnstructuredGrid;
 
 namespace iaa::viz {
-
-/// What an enclosure file records besides the boxes.
-struct EnclosureInfo {
-  std::string expression;    ///< the surface f(x,y,z), as the user wrote it
-  EncloseSettings settings;  ///< the settings that produced the enclosure
-};
 
 /// Builds the voxel grid of an enclosure (arrays filled directly, in parallel; no per-cell calls).
 vtkSmartPointer<vtkUnstructuredGrid> enclosure_to_grid(const Enclosure& enc,
@@ -51,12 +46,6 @@ struct EnclosureFile {
 /// binary, LZ4, 64-bit headers): enclosure_to_grid's (timed in parts by the bench) and others'.
 void write_grid_vtu(const std::string& path, vtkUnstructuredGrid* grid,
                     Progress* progress = nullptr);
-
-/// Seconds spent in the two parts of writing an enclosure as .vtu.
-struct VtuWriteTimes {
-  double convert_s = 0;  ///< building the grid (enclosure_to_grid)
-  double write_s = 0;    ///< writing it (write_grid_vtu)
-};
 
 /// write_enclosure_vtu with its two parts timed apart, for `iaa bench enclose`: the grid is built
 /// inside `exec`'s arena (its threads), then written as write_enclosure_vtu writes it.

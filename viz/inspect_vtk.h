@@ -39,6 +39,7 @@
 #include "render/trace.h"
 #include "scene/scene.h"
 #include "scene/settings.h"
+#include "viz/plugin_api.h"  // InspectionInput
 
 namespace iaa::viz {
 
@@ -53,16 +54,6 @@ inline constexpr const char* kEnclosureBlock = "enclosure";
 inline constexpr const char* kMeshBlock = "mesh";
 /// Value of the `format` field data.
 inline constexpr const char* kInspectFormat = "iaa-inspect 1";
-
-/// What goes into the multiblock. `enclosure` and `mesh` are optional (null: no block).
-struct InspectionInput {
-  const Scene* scene = nullptr;
-  RenderSettings settings;
-  const PixelTrace* trace = nullptr;
-  const Enclosure* enclosure = nullptr;  ///< boxes near the pixel
-  EncloseSettings enclose_settings;      ///< the settings that produced them
-  const TriangleSoup* mesh = nullptr;    ///< triangles near the pixel
-};
 
 /// Builds the multiblock described above.
 vtkSmartPointer<vtkMultiBlockDataSet> inspection_to_multiblock(const InspectionInput& in);

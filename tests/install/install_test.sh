@@ -8,6 +8,9 @@
 #   4. `cpack -G DEB` makes a package whose files (unpacked with dpkg -x, not installed: the test
 #      changes nothing on the machine) include an iaa that renders the demo scene (the teardrop)
 #      to the same bytes as the build's iaa.
+# Where VTK is built, the installed and the packaged iaa each find their VTK plugin
+# (lib*/iaa/libiaa_vtk.so, viz/plugin_api.h) and write an enclosure .vtu with it, and the package
+# depends on VTK's libraries through it.
 # Usage: install_test.sh BUILD_DIR SOURCE_DIR
 set -euo pipefail
 build="$(cd "$1" && pwd)"
@@ -29,6 +32,16 @@ for f in bin/iaa $viz include/iaa/core/interval.h include/iaa/app/scene_loading.
   [ -e "$prefix/$f" ] || fail "the prefix lacks $f"
 done
 echo "install: $(find "$prefix" -type f | wc -l) files under the prefix"
+# The VTK plugin, found relative to the installed command (IAA_VIZ_PLUGIN unset).
+vtu_check() {  # vtu_check IAA: writes an enclosure .vtu through the plugin
+  (unset IAA_VIZ_PLUGIN; "$1" enclose --expr 'x^2 + y^2 + z^2 - 1' --bounds=-2:2,-2:2,-2:2 \
+    --depth 3 -o "$tmp/plugin.vtu" >/dev/null) && [ -s "$tmp/plugin.vtu" ] && rm "$tmp/plugin.vtu"
+}
+if [ -e "$build/bin/libiaa_vtk.so" ]; then
+  ls "$prefix"/lib*/iaa/libiaa_vtk.so >/dev/null 2>&1 || fail "the prefix lacks lib*/iaa/libiaa_vtk.so"
+  vtu_check "$prefix/bin/iaa" || fail "the installed iaa does not write a .vtu through its plugin"
+  echo "install: the installed iaa writes .vtu files through $(cd "$prefix" && ls lib*/iaa/libiaa_vtk.so)"
+fi
 
 # 2. A consumer project against it.
 log="$tmp/consumer.log"
@@ -63,3 +76,9 @@ scene="$tmp/root/usr/share/iaa/scenes/teardrop.toml"
 cmp -s "$tmp/deb.png" "$tmp/build.png" || fail "the packaged iaa renders other bytes than the build's"
 echo "deb: $(basename "$deb") ($(du -k "$deb" | cut -f1) KiB): its iaa renders the teardrop" \
   "as the build's does"
+if [ -e "$build/bin/libiaa_vtk.so" ]; then
+  vtu_check "$tmp/root/usr/bin/iaa" || fail "the packaged iaa does not write a .vtu through its plugin"
+  dpkg-deb --field "$deb" Depends | grep -q libvtk ||
+    fail "the package does not depend on VTK's libraries (its plugin needs them)"
+  echo "deb: its iaa writes .vtu files through its plugin; the package depends on VTK"
+fi

@@ -26,7 +26,7 @@
 #include "iaa/bench.h"
 #include "iaa/bench_scenes.h"
 #ifdef IAA_HAVE_VIZ
-#include "viz/enclosure_vtk.h"
+#include "iaa/viz_plugin.h"
 #endif
 
 namespace iaa::cli {
@@ -124,8 +124,10 @@ void measure_octree(const Scene& scene, const EncloseSettings& s, int runs,
     double tc = 0, tw = 0;
 #ifdef IAA_HAVE_VIZ
     if (plan.write) {
-      const viz::VtuWriteTimes t = viz::write_enclosure_vtu_timed(
-          plan.tmp, enc, viz::EnclosureInfo{scene.expression, s}, exec);
+      const viz::VtuWriteTimes t =
+          viz_plugin("iaa bench enclose")
+              .write_enclosure_vtu_timed(plan.tmp, enc, viz::EnclosureInfo{scene.expression, s},
+                                         exec);
       tc = t.convert_s;
       tw = t.write_s;
       row->file_bytes = std::filesystem::file_size(plan.tmp);

@@ -22,8 +22,7 @@
 #include "iaa/command.h"
 #include "iaa/command_spread.h"
 #ifdef IAA_HAVE_VIZ
-#include "viz/enclosure_pvtu.h"
-#include "viz/enclosure_vtk.h"
+#include "iaa/viz_plugin.h"
 #endif
 
 namespace iaa::cli {
@@ -104,6 +103,9 @@ void check_options(const EncloseOptions& o) {
   for (const std::string* out : {&o.output, &o.report}) {
     if (!out->empty()) app::check_writable(*out);
   }
+#ifdef IAA_HAVE_VIZ
+  if (!o.output.empty()) viz_plugin("-o");  // a missing plugin is said before the work
+#endif
 }
 
 /// The surface to enclose and the box to enclose it in.
@@ -139,7 +141,8 @@ double write_vtu(const std::string& path, const Surface& surface, const EncloseS
   const auto t0 = std::chrono::steady_clock::now();
   app::write_atomically(path, [&](const std::string& tmp) {
     exec.run([&] {
-      viz::write_enclosure_vtu(tmp, enc, viz::EnclosureInfo{surface.expression, s}, bar);
+      viz_plugin("-o").write_enclosure_vtu(tmp, enc, viz::EnclosureInfo{surface.expression, s},
+                                           bar);
     });
   });
   return seconds_since(t0);
@@ -188,8 +191,8 @@ double write_pvtu(const std::string& path, const Surface& surface, const Enclose
   const std::string tmp_pvtu = (tmp / target.filename()).string();
   step(
       [&] {
-        viz::write_enclosure_pvtu(tmp_pvtu, enc, viz::EnclosureInfo{surface.expression, s}, piece,
-                                  pieces, lead);
+        viz_plugin("-o").write_enclosure_pvtu(
+            tmp_pvtu, enc, viz::EnclosureInfo{surface.expression, s}, piece, pieces, lead);
       },
       "its piece");
   if (lead) {

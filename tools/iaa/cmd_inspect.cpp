@@ -27,7 +27,7 @@
 #include "render/render.h"
 #include "scene/camera.h"
 #ifdef IAA_HAVE_VIZ
-#include "viz/inspect_vtk.h"
+#include "iaa/viz_plugin.h"
 #endif
 
 namespace iaa::cli {
@@ -155,6 +155,9 @@ void check_options(const InspectOptions& o) {
       throw Error("--vtk: the output must be a .vtm file (a VTK multiblock), got '" + o.vtk + "'");
     }
     app::check_writable(o.vtk, "--vtk: ");
+#ifdef IAA_HAVE_VIZ
+    viz_plugin("--vtk");  // a missing plugin is said before the work
+#endif
   }
   if (o.enclose_depth < 0 || o.enclose_depth > EncloseSettings::kMaxDepth) {
     throw SettingError("--enclose-depth must lie in 0.." +
@@ -197,7 +200,7 @@ std::string write_vtk(const InspectOptions& o, const Scene& scene, const RenderS
     in.enclose_settings = n.settings;
     if (n.have_mesh) in.mesh = &n.mesh;
   }
-  viz::write_vtm_atomically(o.vtk, viz::inspection_to_multiblock(in));
+  viz_plugin("--vtk").write_inspection_vtm(o.vtk, in);
   std::string wrote = "wrote " + o.vtk;
   if (o.enclose_depth > 0) {
     wrote += " with " + std::to_string(n.enclosure.cells.size()) + " of " +

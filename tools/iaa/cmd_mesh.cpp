@@ -15,7 +15,7 @@
 #include "iaa/mesh_common.h"
 #include "mesh/mesh_io.h"
 #ifdef IAA_HAVE_VIZ
-#include "viz/box_vtk.h"
+#include "iaa/viz_plugin.h"
 #endif
 
 namespace iaa::cli {
@@ -50,6 +50,8 @@ void check_uncertified_option(const MeshOptions& o, meshing::Method method) {
   }
 #ifndef IAA_HAVE_VIZ
   throw Error("--uncertified: this iaa was built without VTK (IAA_WITH_VTK=OFF)");
+#else
+  viz_plugin("--uncertified");  // a missing plugin is said before the work
 #endif
 }
 
@@ -58,8 +60,9 @@ void write_uncertified(const std::string& path, const meshing::MeshRun& run,
 #ifdef IAA_HAVE_VIZ
   std::vector<viz::LabelledBox> boxes;
   for (const UncertifiedCell& c : run.uncertified) boxes.push_back({c.box, c.depth, c.reason});
+  const viz::PluginApi& vtk = viz_plugin("--uncertified");
   app::write_atomically(
-      path, [&](const std::string& tmp) { viz::write_boxes_vtu(tmp, boxes, surface.expression); });
+      path, [&](const std::string& tmp) { vtk.write_boxes_vtu(tmp, boxes, surface.expression); });
 #else
   (void)path, (void)run, (void)surface;
 #endif

@@ -13,7 +13,7 @@
 #include "core/error.h"
 #include "iaa/command.h"
 #ifdef IAA_HAVE_VIZ
-#include "viz/vtk_mesher.h"
+#include "iaa/viz_plugin.h"
 #endif
 
 namespace iaa::cli::meshing {
@@ -26,16 +26,20 @@ using app::meshing::seconds_since;
 using app::meshing::Surface;
 using app::meshing::surface_of;
 
-/// VTK's flying edges when this build has viz/, else none.
+/// VTK's flying edges (through the plugin, iaa/viz_plugin.h) when this build has viz/, else none.
 #ifdef IAA_HAVE_VIZ
-inline constexpr app::meshing::VtkMesher kVtkMesher = viz::run_vtk_mesher;
+inline constexpr app::meshing::VtkMesher kVtkMesher = run_vtk_mesher;
 #else
 inline constexpr app::meshing::VtkMesher kVtkMesher = nullptr;
 #endif
 
 /// Parses a method name; a method whose library was left out of this build is a clear error.
 inline Method parse_mesh_method(const std::string& text) {
-  return app::meshing::parse_mesh_method(text, kVtkMesher);
+  const Method m = app::meshing::parse_mesh_method(text, kVtkMesher);
+#ifdef IAA_HAVE_VIZ
+  if (m == Method::kVtk) viz_plugin("--method vtk");  // a missing plugin is said before the work
+#endif
+  return m;
 }
 
 /// Runs one mesher (parameters validated first).
