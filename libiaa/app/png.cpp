@@ -1,8 +1,10 @@
-// PNG reading and writing through libpng (png.h). Application layer: used by tools/ and viz/,
-// never by the library modules.
+// PNG writing (our own encoder over zlib, compressing the rows in parts in parallel) and reading
+// (libpng). Application layer: used by tools/ and viz/, never by the library modules.
 #include "app/png.h"
 
 #include <png.h>
+#include <tbb/parallel_for.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -14,35 +16,130 @@
 
 namespace iaa::app {
 
+namespace {
+
+/// Filtered bytes per independently compressed part of the image data (whole rows, at least
+/// one): about 6 parts for a 500x500 RGB image. A fixed size, not one per thread, so that the
+/// file's bytes depend on the pixels alone.
+constexpr std::size_t kPartBytes = std::size_t(1) << 17;
+
+void put_u32(std::vector<std::uint8_t>& out, std::uint32_t v) {
+  for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(v >> shift));
+}
+
+/// Appends a PNG chunk: length, type, data, CRC-32 of type and data.
+void put_chunk(std::vector<std::uint8_t>& out, const char (&type)[5], const std::uint8_t* data,
+               std::size_t size) {
+  put_u32(out, static_cast<std::uint32_t>(size));
+  const std::size_t at = out.size();
+  out.insert(out.end(), type, type + 4);
+  if (size) out.insert(out.end(), data, data + size);
+  const uLong crc = crc32(crc32(0L, nullptr, 0), out.data() + at, static_cast<uInt>(4 + size));
+  put_u32(out, static_cast<std::uint32_t>(crc));
+}
+
+/// Rows [y0, y1) with PNG's Sub filter (type 1: each byte minus the byte one pixel to its left),
+/// which on rendered images (flat backgrounds, smooth shading) compresses as well as libpng's
+/// adaptive choice among the five filters, in less time.
+std::vector<std::uint8_t> filtered_rows(const Image8& image, int y0, int y1) {
+  const std::size_t row = std::size_t(image.width) * image.channels;
+  const int bpp = image.channels;
+  std::vector<std::uint8_t> out((row + 1) * std::size_t(y1 - y0));
+  std::uint8_t* o = out.data();
+  for (int y = y0; y < y1; ++y) {
+    const std::uint8_t* in = image.at(0, y);
+    *o++ = 1;
+    for (int i = 0; i < bpp; ++i) *o++ = in[i];
+    for (std::size_t i = static_cast<std::size_t>(bpp); i < row; ++i) {
+      *o++ = static_cast<std::uint8_t>(in[i] - in[i - static_cast<std::size_t>(bpp)]);
+    }
+  }
+  return out;
+}
+
+/// One part of the zlib stream: raw deflate of the part's filtered rows, ended by a sync flush
+/// (byte-aligned, so that parts concatenate into one stream) or, for the last part, by the final
+/// block; and the part's Adler-32 and length for the stream's checksum.
+struct Part {
+  std::vector<std::uint8_t> deflated;
+  uLong adler = 0;
+  std::size_t size = 0;
+  bool ok = false;
+};
+
+Part deflate_part(const std::vector<std::uint8_t>& in, bool last) {
+  Part p;
+  p.size = in.size();
+  p.adler = adler32(adler32(0L, nullptr, 0), in.data(), static_cast<uInt>(in.size()));
+  z_stream zs{};
+  // Level 6 (zlib's default), raw deflate (no zlib header: the parts share the stream's).
+  if (deflateInit2(&zs, 6, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return p;
+  p.deflated.resize(deflateBound(&zs, static_cast<uLong>(in.size())) + 64);
+  zs.next_in = const_cast<Bytef*>(in.data());
+  zs.avail_in = static_cast<uInt>(in.size());
+  zs.next_out = p.deflated.data();
+  zs.avail_out = static_cast<uInt>(p.deflated.size());
+  const int flush = last ? Z_FINISH : Z_SYNC_FLUSH;
+  const int rc = deflate(&zs, flush);
+  // The bound holds the whole output; a sync flush also leaves nothing pending when avail_out > 0.
+  p.ok = zs.avail_in == 0 && (last ? rc == Z_STREAM_END : (rc == Z_OK && zs.avail_out > 0));
+  p.deflated.resize(zs.total_out);
+  deflateEnd(&zs);
+  return p;
+}
+
+/// The PNG file of `image`: signature, IHDR, the image data as one zlib stream compressed in
+/// parts in parallel (one IDAT chunk each), IEND. Nothing else: no time stamp, no gamma chunk.
+std::vector<std::uint8_t> encode_png(const std::string& path, const Image8& image) {
+  const std::size_t row = std::size_t(image.width) * image.channels + 1;
+  const int rows_per_part = static_cast<int>(std::max<std::size_t>(1, kPartBytes / row));
+  const int parts = (image.height + rows_per_part - 1) / rows_per_part;
+  std::vector<Part> deflated(static_cast<std::size_t>(parts));
+  tbb::parallel_for(0, parts, [&](int k) {
+    const int y0 = k * rows_per_part, y1 = std::min(image.height, y0 + rows_per_part);
+    deflated[static_cast<std::size_t>(k)] =
+        deflate_part(filtered_rows(image, y0, y1), k == parts - 1);
+  });
+
+  std::vector<std::uint8_t> out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  std::vector<std::uint8_t> ihdr;
+  put_u32(ihdr, static_cast<std::uint32_t>(image.width));
+  put_u32(ihdr, static_cast<std::uint32_t>(image.height));
+  // Bit depth 8; colour type 2 (RGB) or 6 (RGBA); deflate; adaptive filtering; no interlace.
+  ihdr.insert(ihdr.end(), {8, static_cast<std::uint8_t>(image.channels == 4 ? 6 : 2), 0, 0, 0});
+  put_chunk(out, "IHDR", ihdr.data(), ihdr.size());
+  uLong adler = adler32(0L, nullptr, 0);
+  for (std::size_t k = 0; k < deflated.size(); ++k) {
+    Part& p = deflated[k];
+    if (!p.ok) throw Error("cannot write '" + path + "': zlib failed to compress the image");
+    adler = adler32_combine(adler, p.adler, static_cast<z_off_t>(p.size));
+    std::vector<std::uint8_t> data;
+    if (k == 0) data = {0x78, 0x9c};  // zlib header: deflate, 32 KiB window, default level
+    data.insert(data.end(), p.deflated.begin(), p.deflated.end());
+    if (k + 1 == deflated.size()) put_u32(data, static_cast<std::uint32_t>(adler));
+    put_chunk(out, "IDAT", data.data(), data.size());
+  }
+  put_chunk(out, "IEND", nullptr, 0);
+  return out;
+}
+
+}  // namespace
+
 void write_png(const std::string& path, const Image8& image) {
   if (image.width <= 0 || image.height <= 0 || (image.channels != 3 && image.channels != 4)) {
     throw Error("cannot write '" + path + "': empty image");
   }
+  if (image.data.size() != std::size_t(image.width) * image.height * image.channels) {
+    throw Error("cannot write '" + path + "': the pixel data does not match the image's size");
+  }
+  const std::vector<std::uint8_t> bytes = encode_png(path, image);
   write_atomically(path, [&](const std::string& tmp) {
     std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(tmp.c_str(), "wb"), &std::fclose);
     if (!f) throw Error("cannot write '" + path + "'");
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    png_infop info = png ? png_create_info_struct(png) : nullptr;
-    if (!png || !info) {
-      png_destroy_write_struct(&png, &info);
-      throw Error("cannot write '" + path + "': libpng failed to start");
+    if (std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size() ||
+        std::fflush(f.get()) != 0) {
+      throw Error("cannot write '" + path + "': disk full?");
     }
-    if (setjmp(png_jmpbuf(png))) {
-      png_destroy_write_struct(&png, &info);
-      throw Error("cannot write '" + path + "': libpng error");
-    }
-    png_init_io(png, f.get());
-    png_set_IHDR(png, info, static_cast<png_uint_32>(image.width),
-                 static_cast<png_uint_32>(image.height), 8,
-                 image.channels == 4 ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int y = 0; y < image.height; ++y) {
-      png_write_row(png, const_cast<png_bytep>(image.at(0, y)));
-    }
-    png_write_end(png, nullptr);
-    png_destroy_write_struct(&png, &info);
-    if (std::fflush(f.get()) != 0) throw Error("cannot write '" + path + "': disk full?");
   });
 }
 

@@ -1,5 +1,6 @@
 // Application layer: used by tools/ and viz/, never by the library modules.
-// PNG output (8-bit RGB or RGBA) through libpng, written atomically. The bytes depend only on the
+// PNG output (8-bit RGB or RGBA; our encoder over zlib, in parallel), written atomically; input
+// through libpng. The bytes depend only on the
 // pixels (no time stamps), so identical images give identical files.
 #pragma once
 

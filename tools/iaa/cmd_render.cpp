@@ -93,8 +93,10 @@ void run(const RenderOptions& o) {
   if (world) world->agree_done();
   if (!lead) return;
 
-  app::write_png(o.out, app::color_image(film));
-  if (!o.aov.empty()) app::write_aovs(film, o.aov);
+  exec.run([&] {  // the image's conversion and compression in --threads threads too
+    app::write_png(o.out, app::color_image(film));
+    if (!o.aov.empty()) app::write_aovs(film, o.aov);
+  });
   const nlohmann::json rep = app::render_report_json(scene, film, exec.resolved_threads());
   if (!o.report.empty()) app::write_text_atomically(o.report, rep.dump(2) + "\n");
   if (!o.quiet) print_summary(o, scene, film, exec.resolved_threads());
