@@ -74,6 +74,10 @@ inline std::vector<std::string> pvtu_piece_paths(const std::string& path, int pi
 /// Raised whenever PluginApi or the meaning of one of its functions changes.
 inline constexpr int kPluginAbi = 1;
 
+#ifndef IAA_PLUGIN_VERSION
+#error "IAA_PLUGIN_VERSION (the project's version, set by CMake on both sides) is not defined"
+#endif
+
 /// The plugin's file name and the C symbol that hands out its table.
 inline constexpr const char* kPluginFile = "libiaa_vtk.so";
 inline constexpr const char* kPluginEntry = "iaa_viz_plugin_api";
@@ -94,9 +98,13 @@ constexpr std::uint64_t layout_fingerprint() {
 }
 
 /// The plugin's functions. Each one throws iaa::Error as its namesake in viz/ does; none of them
-/// writes to stdout or stderr.
+/// prints (VTK's own error messages may still reach stderr, as they did when iaa linked VTK).
+/// `abi`, `version` and `layout` identify the build: the same sources give the same three, and
+/// a plugin whose fields were reordered without a change of size or version is not caught, so
+/// the plugin is built with the command (the build's bin/, the same package).
 struct PluginApi {
   int abi = kPluginAbi;
+  const char* version = IAA_PLUGIN_VERSION;
   std::uint64_t layout = layout_fingerprint();
 
   /// viz/enclosure_vtk.h: write_enclosure_vtu and write_enclosure_vtu_timed.

@@ -23,6 +23,10 @@ namespace {
 /// file's bytes depend on the pixels alone.
 constexpr std::size_t kPartBytes = std::size_t(1) << 17;
 
+/// The longest row written (bytes): a part holds whole rows, and one row's data, compressed, must
+/// fit zlib's 32-bit counts and a PNG chunk (at most 2^31 - 1 bytes).
+constexpr std::size_t kMaxRowBytes = std::size_t(1) << 30;
+
 void put_u32(std::vector<std::uint8_t>& out, std::uint32_t v) {
   for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(v >> shift));
 }
@@ -34,7 +38,7 @@ void put_chunk(std::vector<std::uint8_t>& out, const char (&type)[5], const std:
   const std::size_t at = out.size();
   out.insert(out.end(), type, type + 4);
   if (size) out.insert(out.end(), data, data + size);
-  const uLong crc = crc32(crc32(0L, nullptr, 0), out.data() + at, static_cast<uInt>(4 + size));
+  const uLong crc = crc32_z(crc32(0L, nullptr, 0), out.data() + at, 4 + size);
   put_u32(out, static_cast<std::uint32_t>(crc));
 }
 
@@ -67,24 +71,40 @@ struct Part {
   bool ok = false;
 };
 
+/// A deflate stream, ended on every path out (exceptions included).
+struct Deflater {
+  z_stream zs{};
+  bool open = false;
+  // Level 6 (zlib's default), raw deflate (no zlib header: the parts share the stream's).
+  Deflater() { open = deflateInit2(&zs, 6, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) == Z_OK; }
+  ~Deflater() {
+    if (open) deflateEnd(&zs);
+  }
+  Deflater(const Deflater&) = delete;
+  Deflater& operator=(const Deflater&) = delete;
+};
+
 Part deflate_part(const std::vector<std::uint8_t>& in, bool last) {
   Part p;
-  p.size = in.size();
-  p.adler = adler32(adler32(0L, nullptr, 0), in.data(), static_cast<uInt>(in.size()));
-  z_stream zs{};
-  // Level 6 (zlib's default), raw deflate (no zlib header: the parts share the stream's).
-  if (deflateInit2(&zs, 6, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) return p;
-  p.deflated.resize(deflateBound(&zs, static_cast<uLong>(in.size())) + 64);
-  zs.next_in = const_cast<Bytef*>(in.data());
-  zs.avail_in = static_cast<uInt>(in.size());
-  zs.next_out = p.deflated.data();
-  zs.avail_out = static_cast<uInt>(p.deflated.size());
+  p.size = in.size();  // at most a part or one row: both under kMaxRowBytes + 1, in a uInt
+  p.adler = adler32_z(adler32(0L, nullptr, 0), in.data(), in.size());
+  Deflater d;
+  if (!d.open) return p;
+  d.zs.next_in = const_cast<Bytef*>(in.data());
+  d.zs.avail_in = static_cast<uInt>(in.size());
+  // Out through a small buffer, so that a part holds what it compressed to and no more.
   const int flush = last ? Z_FINISH : Z_SYNC_FLUSH;
-  const int rc = deflate(&zs, flush);
-  // The bound holds the whole output; a sync flush also leaves nothing pending when avail_out > 0.
-  p.ok = zs.avail_in == 0 && (last ? rc == Z_STREAM_END : (rc == Z_OK && zs.avail_out > 0));
-  p.deflated.resize(zs.total_out);
-  deflateEnd(&zs);
+  std::uint8_t buf[1 << 15];
+  for (;;) {
+    d.zs.next_out = buf;
+    d.zs.avail_out = sizeof buf;
+    const int rc = deflate(&d.zs, flush);
+    if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR) return p;
+    p.deflated.insert(p.deflated.end(), buf, buf + (sizeof buf - d.zs.avail_out));
+    if (last ? rc == Z_STREAM_END : (d.zs.avail_in == 0 && d.zs.avail_out > 0)) break;
+    if (rc == Z_BUF_ERROR && d.zs.avail_out > 0) return p;  // no progress possible
+  }
+  p.ok = d.zs.avail_in == 0;
   return p;
 }
 
@@ -128,6 +148,11 @@ std::vector<std::uint8_t> encode_png(const std::string& path, const Image8& imag
 void write_png(const std::string& path, const Image8& image) {
   if (image.width <= 0 || image.height <= 0 || (image.channels != 3 && image.channels != 4)) {
     throw Error("cannot write '" + path + "': empty image");
+  }
+  if (std::size_t(image.width) * image.channels > kMaxRowBytes) {
+    throw Error("cannot write '" + path + "': a row of " + std::to_string(image.width) +
+                " pixels is too long (at most " +
+                std::to_string(kMaxRowBytes / static_cast<std::size_t>(image.channels)) + ")");
   }
   if (image.data.size() != std::size_t(image.width) * image.height * image.channels) {
     throw Error("cannot write '" + path + "': the pixel data does not match the image's size");

@@ -182,6 +182,16 @@ TEST(Png, BadInputIsAClearErrorAndLeavesNoFile) {
   } catch (const iaa::Error& e) {
     EXPECT_NE(std::string(e.what()).find("does not match"), std::string::npos) << e.what();
   }
+  Image8 too_wide;  // no pixels allocated: the row length is checked first
+  too_wide.width = (1 << 30) / 3 + 1;
+  too_wide.height = 1;
+  try {
+    iaa::app::write_png(p.string(), too_wide);
+    ADD_FAILURE() << "no error for a row over 1 GiB";
+  } catch (const iaa::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is too long (at most 357913941)"), std::string::npos)
+        << e.what();
+  }
   EXPECT_THROW(iaa::app::write_png((dir.path / "missing" / "x.png").string(), Image8(2, 2, 3)),
                iaa::Error);
   EXPECT_TRUE(fs::is_empty(dir.path));

@@ -2,8 +2,8 @@
 # The iaa command and its VTK plugin (viz/plugin_api.h, tools/iaa/viz_plugin.h):
 #   - iaa itself does not link VTK (no libvtk among its NEEDED entries): commands that write no VTK
 #     file start without it;
-#   - without a loadable plugin (IAA_VIZ_PLUGIN naming a missing file, or a library that is not
-#     the plugin) render still works, and every option that needs VTK fails before the work with
+#   - without a loadable plugin (IAA_VIZ_PLUGIN naming a missing file, a library that is not the
+#     plugin, or a plugin of another build) render still works, and every option that needs VTK fails before the work with
 #     exit code 1, a message naming the option, the file tried and why, and no output left behind;
 #   - with the plugin beside iaa, the same commands write their files.
 # Skipped (exit 0) when this build has no plugin (IAA_WITH_VTK=OFF; tests/e2e/disabled_cli.sh
@@ -53,6 +53,20 @@ if [[ -n "$not_plugin" ]]; then
   expect_no_plugin "$not_plugin" "has no iaa_viz_plugin_api" enclose "${sphere[@]}" -d 3 -q \
     -o "$tmp/out/e.vtu"
 fi
+
+# A plugin of another build (tests/e2e/fake_viz_plugin.cpp: another layout fingerprint).
+if [[ -e "$bin/fake/libiaa_vtk.so" ]]; then
+  expect_no_plugin "$bin/fake/libiaa_vtk.so" "the types it is passed differ" enclose \
+    "${sphere[@]}" -d 3 -q -o "$tmp/out/e.vtu"
+else
+  echo "FAIL: $bin/fake/libiaa_vtk.so was not built"
+  fail=1
+fi
+# A bare file name is the file in the working directory, not one on the library path.
+rm -rf "$tmp/out" && mkdir "$tmp/out"
+(cd "$bin" && IAA_VIZ_PLUGIN=libiaa_vtk.so ./iaa enclose "${sphere[@]}" -d 3 -q \
+  -o "$tmp/out/e.vtu" > /dev/null) && [[ -s "$tmp/out/e.vtu" ]] ||
+  { echo "FAIL: IAA_VIZ_PLUGIN=libiaa_vtk.so in its own directory"; fail=1; }
 
 # Render and enclose without -o never load it.
 IAA_VIZ_PLUGIN="$missing" "$bin/iaa" render "$scene" --width 32 --height 32 -q -o "$tmp/r.png" ||

@@ -93,6 +93,8 @@ Plan make_plan(const BenchOptions& o) {
   plan.write = !o.no_write;
 #ifndef IAA_HAVE_VIZ
   plan.write = false;
+#else
+  if (plan.write) viz_plugin("iaa bench enclose (without --no-write)");  // said before the runs
 #endif
   plan.tmp = (std::filesystem::temp_directory_path() /
               ("iaa-bench-enclose-" + std::to_string(::getpid()) + ".vtu"))

@@ -124,7 +124,9 @@ void run(const CompareOptions& o) {
 #if defined(IAA_HAVE_CGAL) && defined(IAA_HAVE_OPENMESH)
   const Inputs in = load(o);
   const app::ComparedViews v = cast_both(o, in);
-  app::write_png(o.output, app::diff_image(v));
+  Exec exec;  // the image's conversion and compression in --threads threads
+  exec.threads = o.threads;
+  exec.run([&] { app::write_png(o.output, app::diff_image(v)); });
   print_summary(o, in, v);
   if (!o.report.empty()) write_report(o, in, v);
 #endif

@@ -5,6 +5,8 @@
 
 #include <dlfcn.h>
 
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -28,13 +30,27 @@ struct Loaded {
   std::string error;  ///< why it could not be loaded (api null)
 };
 
+/// The value of IAA_VIZ_PLUGIN, empty when unset.
+std::string plugin_variable() {
+  const char* env = std::getenv("IAA_VIZ_PLUGIN");
+  return env ? env : "";
+}
+
 /// Where to look, in order: $IAA_VIZ_PLUGIN alone when set; else beside the executable (the build
-/// tree) and in the install tree's plugin directory, relative to the executable.
-std::vector<fs::path> candidates() {
-  if (const char* env = std::getenv("IAA_VIZ_PLUGIN"); env && *env) return {fs::path(env)};
+/// tree) and in the install tree's plugin directory, relative to the executable. Absolute paths:
+/// dlopen searches the library path for a bare name, which is not what was asked for. Empty, with
+/// `why` set, when the executable's own path cannot be read.
+std::vector<fs::path> candidates(std::string* why) {
   std::error_code ec;
+  if (const std::string env = plugin_variable(); !env.empty()) {
+    const fs::path p = fs::absolute(env, ec);
+    return {ec ? fs::path(env) : p};
+  }
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return {};
+  if (ec) {
+    *why = "\n  /proc/self/exe: " + ec.message() + " (the executable's directory is unknown)";
+    return {};
+  }
   const fs::path dir = exe.parent_path();
   return {dir / viz::kPluginFile,
           (dir / IAA_VIZ_PLUGIN_RELDIR / viz::kPluginFile).lexically_normal()};
@@ -51,11 +67,23 @@ const viz::PluginApi* open(const fs::path& path, std::string* why) {
   using Entry = const viz::PluginApi* (*)();
   const auto entry = reinterpret_cast<Entry>(::dlsym(handle, viz::kPluginEntry));
   const viz::PluginApi* api = entry ? entry() : nullptr;
+  const auto hex = [](std::uint64_t v) {
+    char s[19];
+    std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(v));
+    return std::string(s);
+  };
   if (!api) {
     *why = std::string("it has no ") + viz::kPluginEntry + "()";
-  } else if (api->abi != viz::kPluginAbi || api->layout != viz::layout_fingerprint()) {
+  } else if (api->abi != viz::kPluginAbi) {
     *why = "it comes from another build of iaa (plugin interface " + std::to_string(api->abi) +
            ", this iaa's " + std::to_string(viz::kPluginAbi) + ")";
+  } else if (!api->version || std::string(api->version) != IAA_PLUGIN_VERSION) {
+    *why = "it comes from another version of iaa (" +
+           std::string(api->version ? api->version : "none") + ", this iaa is " +
+           IAA_PLUGIN_VERSION + ")";
+  } else if (api->layout != viz::layout_fingerprint()) {
+    *why = "it comes from another build of iaa (the types it is passed differ: layout " +
+           hex(api->layout) + ", this iaa's " + hex(viz::layout_fingerprint()) + ")";
   } else {
     return api;  // kept loaded for the life of the process: its functions are in use
   }
@@ -66,7 +94,7 @@ const viz::PluginApi* open(const fs::path& path, std::string* why) {
 Loaded load() {
   Loaded out;
   std::string tried;
-  for (const fs::path& path : candidates()) {
+  for (const fs::path& path : candidates(&tried)) {
     std::error_code ec;
     if (!fs::exists(path, ec)) {
       tried += "\n  " + path.string() + ": no such file";
@@ -77,7 +105,10 @@ Loaded load() {
     tried += "\n  " + path.string() + ": " + why;
   }
   out.error = std::string("needs VTK, which iaa loads from its plugin ") + viz::kPluginFile +
-              ", and that could not be loaded (set IAA_VIZ_PLUGIN to the file's path):" + tried;
+              ", and that could not be loaded" +
+              (plugin_variable().empty() ? " (set IAA_VIZ_PLUGIN to the file's path):"
+                                         : " (from IAA_VIZ_PLUGIN):") +
+              tried;
   return out;
 }
 
