@@ -8,8 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <memory>
+#include <cstdint>
+#include <string>
+#include <vector>
 
 #include "app/files.h"
 #include "core/error.h"
@@ -27,18 +28,22 @@ constexpr std::size_t kPartBytes = std::size_t(1) << 17;
 /// fit zlib's 32-bit counts and a PNG chunk (at most 2^31 - 1 bytes).
 constexpr std::size_t kMaxRowBytes = std::size_t(1) << 30;
 
-void put_u32(std::vector<std::uint8_t>& out, std::uint32_t v) {
-  for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(v >> shift));
+/// Appends v big-endian (PNG's byte order) to a string or a byte vector.
+template <class Bytes>
+void put_u32(Bytes& out, std::uint32_t v) {
+  for (int shift = 24; shift >= 0; shift -= 8) {
+    out.push_back(static_cast<typename Bytes::value_type>(v >> shift));
+  }
 }
 
 /// Appends a PNG chunk: length, type, data, CRC-32 of type and data.
-void put_chunk(std::vector<std::uint8_t>& out, const char (&type)[5], const std::uint8_t* data,
-               std::size_t size) {
-  put_u32(out, static_cast<std::uint32_t>(size));
+void put_chunk(std::string& out, const char (&type)[5], const std::vector<std::uint8_t>& data) {
+  put_u32(out, static_cast<std::uint32_t>(data.size()));
   const std::size_t at = out.size();
-  out.insert(out.end(), type, type + 4);
-  if (size) out.insert(out.end(), data, data + size);
-  const uLong crc = crc32_z(crc32(0L, nullptr, 0), out.data() + at, 4 + size);
+  out.append(type, 4);
+  out.append(data.begin(), data.end());
+  const uLong crc = crc32_z(crc32(0L, nullptr, 0), reinterpret_cast<const Bytef*>(out.data() + at),
+                            4 + data.size());
   put_u32(out, static_cast<std::uint32_t>(crc));
 }
 
@@ -110,7 +115,7 @@ Part deflate_part(const std::vector<std::uint8_t>& in, bool last) {
 
 /// The PNG file of `image`: signature, IHDR, the image data as one zlib stream compressed in
 /// parts in parallel (one IDAT chunk each), IEND. Nothing else: no time stamp, no gamma chunk.
-std::vector<std::uint8_t> encode_png(const std::string& path, const Image8& image) {
+std::string encode_png(const std::string& path, const Image8& image) {
   const std::size_t row = std::size_t(image.width) * image.channels + 1;
   const int rows_per_part = static_cast<int>(std::max<std::size_t>(1, kPartBytes / row));
   const int parts = (image.height + rows_per_part - 1) / rows_per_part;
@@ -121,25 +126,25 @@ std::vector<std::uint8_t> encode_png(const std::string& path, const Image8& imag
         deflate_part(filtered_rows(image, y0, y1), k == parts - 1);
   });
 
-  std::vector<std::uint8_t> out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  std::string out = "\x89PNG\r\n\x1a\n";
   std::vector<std::uint8_t> ihdr;
   put_u32(ihdr, static_cast<std::uint32_t>(image.width));
   put_u32(ihdr, static_cast<std::uint32_t>(image.height));
   // Bit depth 8; colour type 2 (RGB) or 6 (RGBA); deflate; adaptive filtering; no interlace.
   ihdr.insert(ihdr.end(), {8, static_cast<std::uint8_t>(image.channels == 4 ? 6 : 2), 0, 0, 0});
-  put_chunk(out, "IHDR", ihdr.data(), ihdr.size());
+  put_chunk(out, "IHDR", ihdr);
   uLong adler = adler32(0L, nullptr, 0);
   for (std::size_t k = 0; k < deflated.size(); ++k) {
     Part& p = deflated[k];
     if (!p.ok) throw Error("cannot write '" + path + "': zlib failed to compress the image");
     adler = adler32_combine(adler, p.adler, static_cast<z_off_t>(p.size));
-    std::vector<std::uint8_t> data;
-    if (k == 0) data = {0x78, 0x9c};  // zlib header: deflate, 32 KiB window, default level
-    data.insert(data.end(), p.deflated.begin(), p.deflated.end());
-    if (k + 1 == deflated.size()) put_u32(data, static_cast<std::uint32_t>(adler));
-    put_chunk(out, "IDAT", data.data(), data.size());
+    // The stream's zlib header (deflate, 32 KiB window, default level) before the first part, its
+    // Adler-32 after the last.
+    if (k == 0) p.deflated.insert(p.deflated.begin(), {0x78, 0x9c});
+    if (k + 1 == deflated.size()) put_u32(p.deflated, static_cast<std::uint32_t>(adler));
+    put_chunk(out, "IDAT", p.deflated);
   }
-  put_chunk(out, "IEND", nullptr, 0);
+  put_chunk(out, "IEND", {});
   return out;
 }
 
@@ -157,15 +162,7 @@ void write_png(const std::string& path, const Image8& image) {
   if (image.data.size() != std::size_t(image.width) * image.height * image.channels) {
     throw Error("cannot write '" + path + "': the pixel data does not match the image's size");
   }
-  const std::vector<std::uint8_t> bytes = encode_png(path, image);
-  write_atomically(path, [&](const std::string& tmp) {
-    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(tmp.c_str(), "wb"), &std::fclose);
-    if (!f) throw Error("cannot write '" + path + "'");
-    if (std::fwrite(bytes.data(), 1, bytes.size(), f.get()) != bytes.size() ||
-        std::fflush(f.get()) != 0) {
-      throw Error("cannot write '" + path + "': disk full?");
-    }
-  });
+  write_text_atomically(path, encode_png(path, image));  // binary: the bytes as they are
 }
 
 Image8 read_png(const std::string& path) {

@@ -9,12 +9,11 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "app/files.h"
 #include "app/png.h"
 #include "core/error.h"
 
@@ -38,9 +37,9 @@ struct TempDir {
   }
 };
 
-std::vector<std::uint8_t> file_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+/// The file's bytes (app/files.h).
+std::string file_bytes(const fs::path& p) {
+  return iaa::app::read_file(p.string());
 }
 
 /// An image of noise over smooth gradients and flat runs (as renders have), from `seed`.
@@ -68,7 +67,8 @@ std::uint32_t be32(const std::vector<std::uint8_t>& b, std::size_t at) {
 /// Decodes `png` by hand, failing the test on any defect: signature, chunk order and CRCs, IHDR,
 /// the IDAT stream (zlib checks its header and Adler-32), one filter byte per row (0-4), and the
 /// unfiltered rows. Returns the pixels.
-Image8 strict_decode(const std::vector<std::uint8_t>& png) {
+Image8 strict_decode(const std::string& file) {
+  const std::vector<std::uint8_t> png(file.begin(), file.end());
   const std::uint8_t signature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   EXPECT_GE(png.size(), 8u);
   EXPECT_TRUE(std::equal(signature, signature + 8, png.begin()));
