@@ -283,14 +283,18 @@ class IaaPixel {
     // Two statements: shade_beam() sets w, and the order in which a call's arguments are
     // evaluated is unspecified.
     const Vec3 shaded = shade_beam(rect, s, range, t, &w);
-    const Vec3 c = w == 1.0 ? shaded : w * shaded + (1.0 - w) * background(ctx_);
+    // The share of a Partial part shown as the surface behind it (coverage rays that missed
+    // near t_near and met the surface further back), at the mean colour of their hits.
+    const double wb = behind_hits_ > 0 ? double(behind_hits_) / coverage_rays_ : 0.0;
+    Vec3 c = w == 1.0 ? shaded : w * shaded + (1.0 - w - wb) * background(ctx_);
+    if (wb > 0) c = c + (1.0 / coverage_rays_) * behind_color_;
     if (t) {
       t->color = c;
-      t->weight = w;
+      t->weight = w + wb;
     }
     const double area = rect.area();
     color_ = color_ + area * c;
-    coverage_ += area * w;
+    coverage_ += area * (w + wb);
     ++leaves_;
     if (s.result == BeamResult::kFull) {
       any_full_ = true;
@@ -335,6 +339,7 @@ class IaaPixel {
       t->coverage_ray_hit = ph.h.hit && !ph.central;
       t->coverage_rays = coverage_rays_;
       t->coverage_hits = coverage_hits_;
+      t->behind_hits = behind_hits_;
       t->point = p;
       t->normal = n;
       t->color = c;
@@ -373,7 +378,8 @@ class IaaPixel {
     ph->tol = shade_tol;
     ph->foot = foot;
     *weight = 1.0;
-    coverage_rays_ = coverage_hits_ = 0;
+    coverage_rays_ = coverage_hits_ = behind_hits_ = 0;
+    behind_color_ = Vec3{};
     RayHit& h = ph->h;
     if (s.result == BeamResult::kFull) {
       h.hit = true;
@@ -394,29 +400,49 @@ class IaaPixel {
     coverage_hits_ = h.hit ? 1 : 0;
     const double end = h.hit ? std::max(sr.hi(), h.t.hi() + (sr.hi() - sr.lo())) : sr.hi();
     const Interval march(s.t_near, std::min(range.hi(), end));
+    struct Missed {
+      double u, v;
+      Vec3 d;
+    } missed[kCoverageRays * kCoverageRays];
+    int n_missed = 0;
     for (int j = 0; j < kCoverageRays; ++j) {
       for (int i = 0; i < kCoverageRays; ++i) {
         const double u = rect.u0 + (i + 0.5) / kCoverageRays * rect.width();
         const double v = rect.v0 + (j + 0.5) / kCoverageRays * rect.height();
         const Vec3 d = su_.frame.dir(u, v);
         Crossing x;
-        if (!coverage_ray(d, march, foot, &x)) continue;
+        if (!coverage_ray(d, march, foot, &x)) {
+          missed[n_missed++] = {u, v, d};
+          continue;
+        }
         ++coverage_hits_;
         if (h.hit) continue;
         // The first coverage ray that finds the surface gives the shading point.
-        const double sg = x.fa > 0 ? 1.0 : -1.0;  // > 0 on the near side
-        auto g = [&](double t) { return sg * ctx_.se.eval_point(su_.frame.eye + t * d); };
         h.hit = true;
-        h.t = Interval(
-            x.fa == 0   ? x.a
-            : x.fb == 0 ? x.b
-                        : first_crossing(g, x.a, x.b, sg * x.fa, sg * x.fb, shade_tol, x.b - x.a));
+        h.t = Interval(crossing_depth(d, x, shade_tol));
         ph->u = u;
         ph->v = v;
         ph->d = d;
       }
     }
     *weight = std::max(kPartialMinWeight, double(coverage_hits_) / coverage_rays_);
+    // A coverage ray that passed beside the part's surface may meet another surface behind it
+    // (the edge of a blade in front of another): its share of the part shows that surface, not
+    // the background. Only where the part's own surface was found (a part that only the
+    // intervals' overestimation keeps, beside a silhouette, is left as it is) and the depth
+    // range goes on behind the march.
+    if (coverage_hits_ == 0 || !(march.hi() < range.hi())) return;
+    const Interval behind(march.hi(), range.hi());
+    for (int k = 0; k < n_missed; ++k) {
+      const Missed& m = missed[k];
+      Crossing x;
+      if (!coverage_ray(m.d, behind, foot, &x)) continue;
+      const Interval tb(crossing_depth(m.d, x, shade_tol));
+      const Vec3 p = su_.frame.eye + tb.mid() * m.d;
+      const Vec3 g = hit_gradient(ctx_, p, m.u, m.v, tb);
+      behind_color_ = behind_color_ + shade(ctx_, p, g, m.d, nullptr, &shadow_cache_);
+      ++behind_hits_;
+    }
   }
 
   /// A bracket [a, b] of point values of opposite signs (fa == 0: a root at a).
@@ -467,6 +493,15 @@ class IaaPixel {
     return false;
   }
 
+  /// The depth of the crossing `x` of the point ray `d`, to within `tol` (first_crossing).
+  double crossing_depth(const Vec3& d, const Crossing& x, double tol) {
+    if (x.fa == 0) return x.a;
+    if (x.fb == 0) return x.b;
+    const double sg = x.fa > 0 ? 1.0 : -1.0;  // > 0 on the near side
+    auto g = [&](double t) { return sg * ctx_.se.eval_point(su_.frame.eye + t * d); };
+    return first_crossing(g, x.a, x.b, sg * x.fa, sg * x.fb, tol, x.b - x.a);
+  }
+
   RenderContext& ctx_;
   const RenderSetup& su_;
   const RenderSettings& st_;
@@ -477,7 +512,9 @@ class IaaPixel {
   std::uint32_t leaves_ = 0;
   bool any_full_ = false, any_partial_ = false;
   int coverage_rays_ = 0, coverage_hits_ = 0;  ///< of the part being shaded
-  std::size_t first_beam_ = 0;                 ///< this pixel's first beam in tr_ (tracing)
+  int behind_hits_ = 0;         ///< of its coverage rays that missed, those that met surface behind
+  Vec3 behind_color_;           ///< the sum of the colours of their hits
+  std::size_t first_beam_ = 0;  ///< this pixel's first beam in tr_ (tracing)
 };
 
 }  // namespace

@@ -67,7 +67,8 @@ struct BeamTrace {
   double weight = 1.0;            ///< share of the part's area shown as surface (coverage)
   int coverage_rays = 0;          ///< Partial: rays whose hits gave the weight (central included)
   int coverage_hits = 0;          ///< Partial: of those, the ones that found the surface
-  std::uint64_t evals = 0;        ///< interval evaluations spent on this beam (search + shading)
+  int behind_hits = 0;      ///< Partial: coverage rays that missed it and met surface further back
+  std::uint64_t evals = 0;  ///< interval evaluations spent on this beam (search + shading)
 };
 
 /// One point-sampled ray (baselines, or the central ray of an IAA leaf).

@@ -89,6 +89,7 @@ nlohmann::json beam_json(std::size_t i, const BeamTrace& b, const RenderSettings
     if (b.coverage_rays > 0) {
       jb["shading"]["coverage_rays"] = b.coverage_rays;
       jb["shading"]["coverage_hits"] = b.coverage_hits;
+      jb["shading"]["behind_hits"] = b.behind_hits;
       jb["shading"]["coverage_ray_hit"] = b.coverage_ray_hit;
     }
   }

@@ -129,6 +129,12 @@ void print_beam(std::size_t i, const BeamTrace& b, const std::string& ind,
       std::printf(
           "%s  | weight %s: %d of its %d rays (central and coverage rays) found the surface\n",
           ind.c_str(), num_text(b.weight, 4).c_str(), b.coverage_hits, b.coverage_rays);
+      if (b.behind_hits > 0) {
+        std::printf(
+            "%s  |   and %d coverage ray%s that missed it met surface further back (shown "
+            "there, in the weight)\n",
+            ind.c_str(), b.behind_hits, b.behind_hits == 1 ? "" : "s");
+      }
     }
   }
 }
