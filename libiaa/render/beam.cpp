@@ -111,32 +111,35 @@ int far_slice_sign(RenderContext& ctx, const IBox& dirs, double t, int want) {
   return slice_sign(ctx, dirs, t);
 }
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kHalfPi = 0.5 * kPi;
-
 Vec3 box_centre(const IBox& b) {
   return {b.x.mid(), b.y.mid(), b.z.mid()};
 }
 
-/// Half-angle of a cone around the box's centre that holds every vector of the box: the largest
-/// angle between the centre and a corner. The vectors of a box are the convex hull of its
-/// corners, and a cone of half-angle below 90 degrees is convex, so the corners decide. Returns
-/// +inf when some corner is 90 degrees or more away (or the box is not finite).
-double cone_half_angle(const IBox& b) {
-  if (!(b.x.is_finite() && b.y.is_finite() && b.z.is_finite())) return HUGE_VAL;
+/// A cone around the box's centre that holds every vector of the box, by the cosine and sine of
+/// its half-angle: the largest angle between the centre and a corner. The vectors of a box are
+/// the convex hull of its corners, and a cone of half-angle below 90 degrees is convex, so the
+/// corners decide. `cos` is 0 or less (no such cone) when some corner is 90 degrees or more
+/// away, or the box is not finite.
+struct ConeAngle {
+  double cos = 0, sin = 1;
+};
+
+ConeAngle cone_half_angle(const IBox& b) {
+  if (!(b.x.is_finite() && b.y.is_finite() && b.z.is_finite())) return {};
   const Vec3 c = box_centre(b);
   const double lc = length(c);
-  if (!(lc > 0)) return HUGE_VAL;
+  if (!(lc > 0)) return {};
   double worst = 1.0;  // smallest cosine
   for (int k = 0; k < 8; ++k) {
     const Vec3 v{(k & 1) ? b.x.hi() : b.x.lo(), (k & 2) ? b.y.hi() : b.y.lo(),
                  (k & 4) ? b.z.hi() : b.z.lo()};
     const double lv = length(v);
-    if (!(lv > 0)) return HUGE_VAL;
+    if (!(lv > 0)) return {};
     worst = std::min(worst, dot(v, c) / (lv * lc));
   }
-  if (!(worst > 0)) return HUGE_VAL;
-  return std::acos(std::min(1.0, worst));
+  if (!(worst > 0)) return {};
+  worst = std::min(1.0, worst);
+  return {worst, std::sqrt((1.0 - worst) * (1.0 + worst))};
 }
 
 /// Records a search's outcome in its trace (when tracing) and returns it.
@@ -394,7 +397,7 @@ struct DirCone {
   IBox dirs;
   Interval inv_len;
   Vec3 centre;
-  double half_angle;
+  ConeAngle half_angle;
 
   explicit DirCone(const IBox& d) : dirs(d), centre(box_centre(d)), half_angle(cone_half_angle(d)) {
     Domain dom = Domain::kFull;
@@ -419,14 +422,20 @@ Interval unit_dot(const IGrad& g, const DirCone& dc) {
   // interval quotient, much more tightly (that one multiplies the width by the ratio of the
   // largest to the smallest |grad F| on the box). Both enclose the same set, so their
   // intersection does too. A cone of 90 degrees or more proves nothing: the quotient alone.
-  const double ag = cone_half_angle(gb), ad = dc.half_angle;
-  if (!(ag < kHalfPi) || !(ad < kHalfPi)) return quotient;
+  const ConeAngle ag = cone_half_angle(gb), ad = dc.half_angle;
+  if (!(ag.cos > 0) || !(ad.cos > 0)) return quotient;
   const Vec3 cg = box_centre(gb), cd = dc.centre;
-  const double c0 = dot(cg, cd) / (length(cg) * length(cd));
-  const double th = std::acos(std::clamp(c0, -1.0, 1.0));
+  const double c0 = std::clamp(dot(cg, cd) / (length(cg) * length(cd)), -1.0, 1.0);
+  // With th the angle between the centres and s = ag + ad (below 180 degrees), the dot products
+  // lie in [cos(min(180, th + s)), cos(max(0, th - s))]: by the angle-sum formulas, without
+  // inverse trigonometric functions (cos is decreasing on [0, 180]: th <= s iff cos th >= cos s,
+  // th + s >= 180 iff cos th <= -cos s).
+  const double cs = ag.cos * ad.cos - ag.sin * ad.sin, ss = ag.sin * ad.cos + ag.cos * ad.sin;
+  const double s0 = std::sqrt((1.0 - c0) * (1.0 + c0));
   // The slack covers the rounding of the few double operations above (a decision, not a claim).
-  const double spread = ag + ad + 1e-9;
-  const Interval cone(std::cos(std::min(kPi, th + spread)), std::cos(std::max(0.0, th - spread)));
+  constexpr double kSlack = 1e-9;
+  const Interval cone(c0 <= -cs ? -1.0 : std::max(-1.0, c0 * cs - s0 * ss - kSlack),
+                      c0 >= cs ? 1.0 : std::min(1.0, c0 * cs + s0 * ss + kSlack));
   // Both enclose the same set: keep what both allow.
   const Interval both = intersect(quotient, cone);
   return both.is_empty() ? quotient : both;
