@@ -284,17 +284,22 @@ class IaaPixel {
     // evaluated is unspecified.
     const Vec3 shaded = shade_beam(rect, s, range, t, &w);
     // The share of a Partial part shown as the surface behind it (coverage rays that missed
-    // near t_near and met the surface further back), at the mean colour of their hits.
-    const double wb = behind_hits_ > 0 ? double(behind_hits_) / coverage_rays_ : 0.0;
-    Vec3 c = w == 1.0 ? shaded : w * shaded + (1.0 - w - wb) * background(ctx_);
-    if (wb > 0) c = c + (1.0 / coverage_rays_) * behind_color_;
+    // near t_near and met the surface further back), at the mean colour of their hits. Surface
+    // then shows on `wt` of the part: one division, so that all rays hitting is exactly 1 under
+    // the upward rounding (w + the behind share could round to 1 + 2^-52).
+    double wt = w;
+    Vec3 c = w == 1.0 ? shaded : w * shaded + (1.0 - w) * background(ctx_);
+    if (behind_hits_ > 0) {
+      wt = double(coverage_hits_ + behind_hits_) / coverage_rays_;
+      c = w * shaded + (1.0 - wt) * background(ctx_) + (1.0 / coverage_rays_) * behind_color_;
+    }
     if (t) {
       t->color = c;
-      t->weight = w + wb;
+      t->weight = wt;
     }
     const double area = rect.area();
     color_ = color_ + area * c;
-    coverage_ += area * (w + wb);
+    coverage_ += area * wt;
     ++leaves_;
     if (s.result == BeamResult::kFull) {
       any_full_ = true;
@@ -334,6 +339,7 @@ class IaaPixel {
     } else {
       c = shade(ctx_, p, g, ph.d, &n, &shadow_cache_);
     }
+    shade_behind(ph);
     if (t) {
       t->center_ray_hit = ph.central;
       t->coverage_ray_hit = ph.h.hit && !ph.central;
@@ -378,7 +384,7 @@ class IaaPixel {
     ph->tol = shade_tol;
     ph->foot = foot;
     *weight = 1.0;
-    coverage_rays_ = coverage_hits_ = behind_hits_ = 0;
+    coverage_rays_ = coverage_hits_ = behind_hits_ = n_missed_ = 0;
     behind_color_ = Vec3{};
     RayHit& h = ph->h;
     if (s.result == BeamResult::kFull) {
@@ -400,10 +406,7 @@ class IaaPixel {
     coverage_hits_ = h.hit ? 1 : 0;
     const double end = h.hit ? std::max(sr.hi(), h.t.hi() + (sr.hi() - sr.lo())) : sr.hi();
     const Interval march(s.t_near, std::min(range.hi(), end));
-    struct Missed {
-      double u, v;
-      Vec3 d;
-    } missed[kCoverageRays * kCoverageRays];
+    Missed missed[kCoverageRays * kCoverageRays];
     int n_missed = 0;
     for (int j = 0; j < kCoverageRays; ++j) {
       for (int i = 0; i < kCoverageRays; ++i) {
@@ -426,23 +429,34 @@ class IaaPixel {
       }
     }
     *weight = std::max(kPartialMinWeight, double(coverage_hits_) / coverage_rays_);
-    // A coverage ray that passed beside the part's surface may meet another surface behind it
-    // (the edge of a blade in front of another): its share of the part shows that surface, not
-    // the background. Only where the part's own surface was found (a part that only the
-    // intervals' overestimation keeps, beside a silhouette, is left as it is) and the depth
-    // range goes on behind the march.
+    // A coverage ray that passed beside the surface the part's rays found may meet another
+    // surface behind it (the edge of a blade in front of another): shade_behind() looks there.
+    // Only where some ray of the part found surface (a part that only the intervals'
+    // overestimation keeps, beside a silhouette, is left as it is) and the depth range goes on
+    // behind the march.
     if (coverage_hits_ == 0 || !(march.hi() < range.hi())) return;
-    const Interval behind(march.hi(), range.hi());
-    for (int k = 0; k < n_missed; ++k) {
-      const Missed& m = missed[k];
+    behind_ = Interval(march.hi(), range.hi());
+    for (int k = 0; k < n_missed; ++k) missed_[n_missed_++] = missed[k];
+  }
+
+  /// The coverage rays of the part `ph` that missed near t_near (part_hit), marched on behind:
+  /// each that meets surface there adds its colour at its hit to behind_color_ (with shadow rays
+  /// through the pixel's cache, at the cache radius of its depth) and counts in behind_hits_.
+  /// After the part's own shading point, which comes first in the cache.
+  void shade_behind(const PartHit& ph) {
+    const double radius = shadow_cache_.radius;
+    for (int k = 0; k < n_missed_; ++k) {
+      const Missed& m = missed_[k];
       Crossing x;
-      if (!coverage_ray(m.d, behind, foot, &x)) continue;
-      const Interval tb(crossing_depth(m.d, x, shade_tol));
+      if (!coverage_ray(m.d, behind_, ph.foot, &x)) continue;
+      const Interval tb(crossing_depth(m.d, x, ph.tol));
       const Vec3 p = su_.frame.eye + tb.mid() * m.d;
       const Vec3 g = hit_gradient(ctx_, p, m.u, m.v, tb);
+      shadow_cache_.radius = su_.frame.scale * tb.mid();
       behind_color_ = behind_color_ + shade(ctx_, p, g, m.d, nullptr, &shadow_cache_);
       ++behind_hits_;
     }
+    shadow_cache_.radius = radius;
   }
 
   /// A bracket [a, b] of point values of opposite signs (fa == 0: a root at a).
@@ -512,6 +526,14 @@ class IaaPixel {
   std::uint32_t leaves_ = 0;
   bool any_full_ = false, any_partial_ = false;
   int coverage_rays_ = 0, coverage_hits_ = 0;  ///< of the part being shaded
+  /// A coverage ray of a Partial part that did not find the surface near t_near.
+  struct Missed {
+    double u = 0, v = 0;  ///< pixel coordinates of the ray
+    Vec3 d;               ///< its direction
+  };
+  Missed missed_[kCoverageRays * kCoverageRays];  ///< of the part being shaded, to march on
+  int n_missed_ = 0;
+  Interval behind_;             ///< the depths behind the part's march, to the end of its range
   int behind_hits_ = 0;         ///< of its coverage rays that missed, those that met surface behind
   Vec3 behind_color_;           ///< the sum of the colours of their hits
   std::size_t first_beam_ = 0;  ///< this pixel's first beam in tr_ (tracing)

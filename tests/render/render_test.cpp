@@ -272,22 +272,36 @@ TEST(Render, RaysBesideAPartialPartShowTheSurfaceBehindIt) {
       "[surface]\nexpression = \"min((x/0.5)^8 + (y/0.5)^8 + ((z-0.3)/0.02)^8 - 1, "
       "(x/0.95)^8 + (y/0.95)^8 + ((z+0.3)/0.02)^8 - 1)\"\nmin = [-1,-1,-1]\nmax = [1,1,1]\n"
       "[camera]\neye = [0.3, 0.2, 3]\nlook_at = [0, 0, 0]\nfov = 30\n"
-      "[image]\nwidth = 48\nheight = 48\n");
+      "[image]\nwidth = 48\nheight = 48\n[[light]]\nposition = [2, 3, 4]\n");
   const Film ref = render(s, with_method(RenderMethod::kGrid, 8), threads(2));
-  const Film f = render(s, with_method(RenderMethod::kIaa), threads(2));
-  int all_rays_hit = 0, behind = 0;
-  for (int y = 0; y < f.height; ++y) {
-    for (int x = 0; x < f.width; ++x) {
-      if (ref.coverage[ref.index(x, y)] != 1.0f) continue;
-      ++all_rays_hit;
-      EXPECT_GE(f.coverage[f.index(x, y)], 1.0f - 1.0f / 64) << "pixel " << x << "," << y;
-      PixelTrace tr;
-      render_pixel(s, with_method(RenderMethod::kIaa), x, y, &tr);
-      for (const BeamTrace& b : tr.beams) behind += b.behind_hits;
+  // With shadows too: the surface behind is shaded with its own shadow rays, through the
+  // pixel's shadow cache.
+  for (const bool shadows : {false, true}) {
+    RenderSettings st = with_method(RenderMethod::kIaa);
+    st.shadows = shadows;
+    const Film f = render(s, st, threads(2));
+    int all_rays_hit = 0, behind = 0;
+    for (int y = 0; y < f.height; ++y) {
+      for (int x = 0; x < f.width; ++x) {
+        // Coverage is a fraction of the pixel: the part's own rays and those behind it sum to
+        // exactly 1 when all hit, under the upward rounding too.
+        EXPECT_LE(f.coverage[f.index(x, y)], 1.0f) << "pixel " << x << "," << y;
+        if (ref.coverage[ref.index(x, y)] != 1.0f) continue;
+        ++all_rays_hit;
+        EXPECT_GE(f.coverage[f.index(x, y)], 1.0f - 1.0f / 64)
+            << "shadows " << shadows << ", pixel " << x << "," << y;
+        PixelTrace tr;
+        const PixelResult r = render_pixel(s, st, x, y, &tr);
+        EXPECT_EQ(r.coverage, f.coverage[f.index(x, y)]);
+        for (const BeamTrace& b : tr.beams) {
+          behind += b.behind_hits;
+          EXPECT_LE(b.weight, 1.0);
+        }
+      }
     }
+    EXPECT_GT(all_rays_hit, 2000);
+    EXPECT_GT(behind, 20) << "too few coverage rays met the back plate behind a Partial part";
   }
-  EXPECT_GT(all_rays_hit, 2000);
-  EXPECT_GT(behind, 20) << "too few coverage rays met the back plate behind a Partial part";
 }
 
 // Coverage is a fraction of the pixel for every method and grid size. The kernels run under the
