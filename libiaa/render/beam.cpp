@@ -135,9 +135,10 @@ ConeAngle cone_half_angle(const IBox& b) {
                  (k & 4) ? b.z.hi() : b.z.lo()};
     const double lv = length(v);
     if (!(lv > 0)) return {};
-    worst = std::min(worst, dot(v, c) / (lv * lc));
+    const double cv = dot(v, c) / (lv * lc);
+    if (!(cv > 0)) return {};  // 90 degrees or more (or NaN, which std::min would skip)
+    worst = std::min(worst, cv);
   }
-  if (!(worst > 0)) return {};
   worst = std::min(1.0, worst);
   return {worst, std::sqrt((1.0 - worst) * (1.0 + worst))};
 }
