@@ -30,8 +30,11 @@ constexpr double kPartialMinWeight = 1.0 / 16;
 constexpr double kPixelMinParts = 0.25;
 /// Point-value steps over [t_near, t_far] in which the first crossing of a Full part's central
 /// ray is looked for before regula falsi narrows it (full_root). The steps start at one
-/// footprint of the part and double up to (t_far - t_near) / kRootMarch.
+/// footprint of the part and double up to (t_far - t_near) / kRootMarch, or kRootStepMost
+/// footprints when that is less; at most kRootMarchMost of them.
 constexpr int kRootMarch = 8;
+constexpr double kRootStepMost = 4;
+constexpr int kRootMarchMost = 64;
 /// Most point values along one coverage ray of a Partial part (steps of one footprint).
 constexpr int kCoverageMarch = 64;
 /// Samples per side of a Full part (at the centres of a grid over it) searched for shadows when
@@ -45,17 +48,20 @@ constexpr int kEstimatorPieces = 8;
 /// The first crossing of g (> 0 at a, < 0 at b) in [a, b]: a march of point values from the
 /// front to the first step whose far end has the far sign, then regula falsi (Illinois) to
 /// within `tol`. The steps are `first` wide at the front, then double, up to (b - a) /
-/// kRootMarch: the first crossing is most often near a (the beam's t_near), where a thin sliver
-/// in front of a farther surface (a lobe passing in front of another) would hide in one long
-/// step. A feature thinner than a step can still hide a crossing: shading only.
+/// kRootMarch or kRootStepMost x `first`: the first crossing is most often near a (the beam's
+/// t_near), where a thin sliver in front of a farther surface (a lobe passing in front of
+/// another) would hide in one long step; and a Full part inside a Full parent inherits the
+/// parent's long [t_near, t_far], where steps of 1/8 of it skipped the thin fold of the Klein
+/// bottle in front of its other sheet. A feature thinner than a step can still hide a crossing:
+/// shading only.
 template <class G>
 double first_crossing(const G& g, double a, double b, double ga, double gb, double tol,
                       double first) {
   const double end = b;
-  const double most = (b - a) / kRootMarch;
+  const double most = std::min((b - a) / kRootMarch, kRootStepMost * first);
   double step = std::min(first, most);
   double t = a;
-  for (int k = 0; k < 4 * kRootMarch; ++k) {
+  for (int k = 0; k < kRootMarchMost; ++k) {
     t += step;
     step = std::min(2 * step, most);
     if (!(t > a && t < end)) break;
