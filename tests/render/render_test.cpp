@@ -304,6 +304,20 @@ TEST(Render, RaysBesideAPartialPartShowTheSurfaceBehindIt) {
   }
 }
 
+// A Full part inside a Full parent inherits the parent's long [t_near, t_far]; the march of its
+// central ray must not step over a thin fold in front of a farther sheet (shading only, not the
+// certificate). Pixel 144,91 of the Klein bottle at 250x250 is covered by such parts: the fold's
+// near crossing is what point sampling shows there (a colour about 0.50 in red), where steps of
+// 1/8 of the inherited range shaded the sheet behind (0.27).
+TEST(Render, FullPartsShadeTheThinFoldInFront) {
+  const Scene s = test::bundled("klein_bottle", 250);
+  const PixelResult iaa = render_pixel(s, with_method(RenderMethod::kIaa), 144, 91);
+  const PixelResult point = render_pixel(s, with_method(RenderMethod::kPoint), 144, 91);
+  EXPECT_EQ(iaa.certificate, PixelCertificate::kCovered);
+  EXPECT_NEAR(iaa.color.r, point.color.r, 0.05);
+  EXPECT_NEAR(iaa.color.g, point.color.g, 0.05);
+}
+
 // Coverage is a fraction of the pixel for every method and grid size. The kernels run under the
 // upward rounding mode of their RoundingScope, where 9 * (1 / 9.0) is 1 + 2^-52 and its float
 // 1 + 2^-23: a pixel all of whose rays hit must still say exactly 1 (fuzz_scene found a `grid 3`
