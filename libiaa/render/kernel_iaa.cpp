@@ -412,8 +412,6 @@ class IaaPixel {
     coverage_hits_ = h.hit ? 1 : 0;
     const double end = h.hit ? std::max(sr.hi(), h.t.hi() + (sr.hi() - sr.lo())) : sr.hi();
     const Interval march(s.t_near, std::min(range.hi(), end));
-    Missed missed[kCoverageRays * kCoverageRays];
-    int n_missed = 0;
     for (int j = 0; j < kCoverageRays; ++j) {
       for (int i = 0; i < kCoverageRays; ++i) {
         const double u = rect.u0 + (i + 0.5) / kCoverageRays * rect.width();
@@ -421,7 +419,7 @@ class IaaPixel {
         const Vec3 d = su_.frame.dir(u, v);
         Crossing x;
         if (!coverage_ray(d, march, foot, &x)) {
-          missed[n_missed++] = {u, v, d};
+          missed_[n_missed_++] = {u, v, d};
           continue;
         }
         ++coverage_hits_;
@@ -440,9 +438,11 @@ class IaaPixel {
     // Only where some ray of the part found surface (a part that only the intervals'
     // overestimation keeps, beside a silhouette, is left as it is) and the depth range goes on
     // behind the march.
-    if (coverage_hits_ == 0 || !(march.hi() < range.hi())) return;
+    if (coverage_hits_ == 0 || !(march.hi() < range.hi())) {
+      n_missed_ = 0;
+      return;
+    }
     behind_ = Interval(march.hi(), range.hi());
-    for (int k = 0; k < n_missed; ++k) missed_[n_missed_++] = missed[k];
   }
 
   /// The coverage rays of the part `ph` that missed near t_near (part_hit), marched on behind:
