@@ -293,12 +293,9 @@ class IaaPixel {
     // near t_near and met the surface further back), at the mean colour of their hits. Surface
     // then shows on `wt` of the part: one division, so that all rays hitting is exactly 1 under
     // the upward rounding (w + the behind share could round to 1 + 2^-52).
-    double wt = w;
-    Vec3 c = w == 1.0 ? shaded : w * shaded + (1.0 - w) * background(ctx_);
-    if (behind_hits_ > 0) {
-      wt = double(coverage_hits_ + behind_hits_) / coverage_rays_;
-      c = w * shaded + (1.0 - wt) * background(ctx_) + (1.0 / coverage_rays_) * behind_color_;
-    }
+    const double wt = behind_hits_ > 0 ? double(coverage_hits_ + behind_hits_) / coverage_rays_ : w;
+    Vec3 c = w == 1.0 ? shaded : w * shaded + (1.0 - wt) * background(ctx_);
+    if (behind_hits_ > 0) c = c + (1.0 / coverage_rays_) * behind_color_;
     if (t) {
       t->color = c;
       t->weight = wt;

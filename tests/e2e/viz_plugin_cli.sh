@@ -3,8 +3,9 @@
 #   - iaa itself does not link VTK (no libvtk among its NEEDED entries): commands that write no VTK
 #     file start without it;
 #   - without a loadable plugin (IAA_VIZ_PLUGIN naming a missing file, a library that is not the
-#     plugin, or a plugin of another build) render still works, and every option that needs VTK fails before the work with
-#     exit code 1, a message naming the option, the file tried and why, and no output left behind;
+#     plugin, or a plugin of another build) render still works, and every option that needs VTK
+#     fails before the work with exit code 1, a message naming the option, the file tried and why,
+#     and no output left behind;
 #   - with the plugin beside iaa, the same commands write their files.
 # Skipped (exit 0) when this build has no plugin (IAA_WITH_VTK=OFF; tests/e2e/disabled_cli.sh
 # covers that build). $1 = bin dir, $2 = source dir.
