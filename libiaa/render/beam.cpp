@@ -6,7 +6,6 @@
 #include <optional>
 
 #include "core/error.h"
-#include "render/piece_stack.h"
 #include "scene/camera.h"
 
 namespace iaa {
@@ -17,8 +16,11 @@ namespace {
 constexpr int kOutside = 2;
 /// Slices tried for t_far.
 constexpr int kFarTries = 10;
-/// Tolerance-sized steps tried from the front before bisecting the rest of a range.
-constexpr int kMarchSteps = 4;
+/// first_piece's march: a piece kMarchGrow times wider than the last after kMarchGrowAfter
+/// excluded in a row (measured against 2 after 1, 2 after 2 or 3, 1.25 after 1 or 2 and 1.5
+/// after 1 or 3 on chubs, the Barth sextic and the twist: docs/render.md).
+constexpr double kMarchGrow = 1.5;
+constexpr int kMarchGrowAfter = 2;
 /// Pieces up to this many depth tolerances wide are also tried with the mean-value form.
 constexpr double kMeanValueWidth = 16.0;
 /// Bisection steps that tighten t_far once a candidate succeeded.
@@ -193,6 +195,14 @@ struct FirstPiece {
 /// Searches the depths `range` of the beam `rect` (directions `dirs`) front to back for the
 /// first piece that may hold the surface, no wider than the depth tolerance (times the beam's
 /// lateral width at the piece's far end). Nothing when every piece is excluded.
+///
+/// An adaptive march: the piece at the front starts one tolerance wide; a kept piece is halved
+/// (the front half is tried next), and after kMarchGrowAfter excluded pieces in a row the next
+/// one is kMarchGrow times wider. Every depth in front of the piece returned was excluded, as
+/// with bisection; but the pieces follow how far from the surface the beam runs, where
+/// bisection's halves of the whole range do not: beside a silhouette the widest piece that can
+/// be excluded grows slowly along the beam, and bisection spent two evaluations per level on
+/// the way down to it and halves that were kept only for being too wide.
 std::optional<FirstPiece> first_piece(RenderContext& ctx, const PixelRect& rect, const IBox& dirs,
                                       Interval range, BeamTrace* trace) {
   const RenderSetup& su = ctx.setup;
@@ -200,36 +210,28 @@ std::optional<FirstPiece> first_piece(RenderContext& ctx, const PixelRect& rect,
   const double lateral = std::max(rect.width(), rect.height()) * su.frame.scale;
   const double abs_floor = 1e-12 * std::max(1.0, range.hi());
   const double tol_factor = su.settings.depth_tolerance;
-
-  // The first kMarchSteps pieces are tolerance-sized steps from the front; the rest of the range
-  // is bisected. A sub-beam's first hit is usually within a few of its tolerances of its
-  // parent's t_near, where a march finds it in a few evaluations; bisection of the whole range
-  // would spend two per level on the way down.
-  PieceStack st;
-  const double step = std::max(abs_floor, tol_factor * lateral * range.lo());
-  if (kMarchSteps > 0 && range.lo() + kMarchSteps * step < range.hi()) {
-    double ends[kMarchSteps + 1];
-    for (int k = 0; k <= kMarchSteps; ++k) ends[k] = range.lo() + k * step;
-    st.push(ends[kMarchSteps], range.hi());
-    for (int k = kMarchSteps - 1; k >= 0; --k) st.push(ends[k], ends[k + 1]);
-  } else {
-    st.push(range.lo(), range.hi());
-  }
-  double a = 0, b = 0;
-  while (st.pop(&a, &b)) {
+  double a = range.lo();
+  double w = std::max(abs_floor, tol_factor * lateral * a);  // width of the next piece
+  int run = 0;                                               // pieces excluded in a row
+  while (a < range.hi()) {
+    const double b = w < range.hi() - a ? a + w : range.hi();
     const IBox box = clip_box(segment_box(su.frame.eye, dirs, Interval(a, b)), ctx.bounds());
     if (box.is_empty()) {
       if (trace)
         trace->pieces.push_back({Interval(a, b), box, Interval::empty(), false, false, false});
-      continue;
+    } else {
+      const double tol = std::max(abs_floor, tol_factor * lateral * b);
+      const bool narrow = b - a <= kMeanValueWidth * tol;
+      if (piece_may_hit(ctx, box, dirs, a, b, narrow, trace)) {
+        const double m = 0.5 * (a + b);
+        if (b - a <= tol || m <= a || m >= b) return FirstPiece{a, b, box};
+        w = m - a;
+        run = 0;
+        continue;
+      }
     }
-    const double m = 0.5 * (a + b);
-    const double tol = std::max(abs_floor, tol_factor * lateral * b);
-    const bool narrow = b - a <= kMeanValueWidth * tol;
-    if (!piece_may_hit(ctx, box, dirs, a, b, narrow, trace)) continue;
-    if (b - a <= tol || m <= a || m >= b || !st.has_room(2)) return FirstPiece{a, b, box};
-    st.push(m, b);
-    st.push(a, m);
+    a = b;
+    if (++run >= kMarchGrowAfter) w *= kMarchGrow;
   }
   return std::nullopt;
 }
