@@ -159,17 +159,23 @@ const BeamSearch& traced(const BeamSearch& out, const char* reason, BeamTrace* t
 
 /// False when F certainly excludes 0 on the depth piece [a, b] of the beam with directions
 /// `dirs` (its box `box` is inside the bounds): by the natural enclosure or, on a `narrow` piece,
-/// by the mean-value form. Records each enclosure into `trace` when it is not null.
+/// by the mean-value form. Records each enclosure into `trace` when it is not null. Sets
+/// `natural_kept` to whether the piece is narrow and its natural enclosure kept it; with
+/// `grad_first` (where the mean-value form is allowed) a narrow piece's gradient is evaluated at
+/// once.
 bool piece_may_hit(RenderContext& ctx, const IBox& box, const IBox& dirs, double a, double b,
-                   bool narrow, BeamTrace* trace) {
-  // Where the natural enclosure of narrow pieces rarely excludes 0, the gradient evaluation of
-  // the mean-value form comes first: its value part is that same natural enclosure.
+                   bool narrow, BeamTrace* trace, bool* natural_kept, bool grad_first) {
+  // Where the natural enclosure of narrow pieces rarely excludes 0 (the budget's record, or the
+  // caller's `grad_first`), the gradient evaluation of the mean-value form comes first: its
+  // value part is that same natural enclosure, so the outcome is the same either way.
   bool partial = false;
   IGrad g;
-  const bool have_grad = narrow && ctx.mv.gradient_first(MeanValueBudget::kPiece);
+  const bool have_grad = narrow && (ctx.mv.gradient_first(MeanValueBudget::kPiece) ||
+                                    (grad_first && ctx.mv.allowed()));
   if (have_grad) g = ctx.eval_grad(box, &partial);
   const Interval f = have_grad ? g.v : ctx.eval(box, &partial);
   const bool kept = !f.is_empty() && f.contains_zero();
+  *natural_kept = narrow && kept && !partial;
   if (narrow) ctx.mv.record_natural(MeanValueBudget::kPiece, !kept);
   if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial, false});
   if (!kept) return false;
@@ -213,6 +219,7 @@ std::optional<FirstPiece> first_piece(RenderContext& ctx, const PixelRect& rect,
   double a = range.lo();
   double w = std::max(abs_floor, tol_factor * lateral * a);  // width of the next piece
   int run = 0;                                               // pieces excluded in a row
+  bool natural_kept = false;  // the last piece was narrow and its natural enclosure kept it
   while (a < range.hi()) {
     const double b = w < range.hi() - a ? a + w : range.hi();
     const IBox box = clip_box(segment_box(su.frame.eye, dirs, Interval(a, b)), ctx.bounds());
@@ -222,7 +229,10 @@ std::optional<FirstPiece> first_piece(RenderContext& ctx, const PixelRect& rect,
     } else {
       const double tol = std::max(abs_floor, tol_factor * lateral * b);
       const bool narrow = b - a <= kMeanValueWidth * tol;
-      if (piece_may_hit(ctx, box, dirs, a, b, narrow, trace)) {
+      // The natural enclosure of the narrow piece before kept it: this one's likely keeps it
+      // too (a stretch beside a silhouette), so its gradient comes first.
+      const bool grad_first = natural_kept;
+      if (piece_may_hit(ctx, box, dirs, a, b, narrow, trace, &natural_kept, grad_first)) {
         const double m = 0.5 * (a + b);
         if (b - a <= tol || m <= a || m >= b) return FirstPiece{a, b, box};
         w = m - a;
