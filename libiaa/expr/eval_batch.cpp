@@ -163,6 +163,35 @@ IAA_ALWAYS_INLINE void BatchIntervalEvalK<K>::run_impl(int n) {
   }
 }
 
+double lane_by_lane_share(const Tape& tape) {
+  int ops = 0, slow = 0;
+  const auto ins = tape.instrs();
+  for (int i = tape.first_op(); i < tape.size(); ++i) {
+    const Op op = ins[static_cast<std::size_t>(i)].op;
+    if (op == Op::kPairedCos) continue;
+    ++ops;
+    switch (op) {  // the operations with a vector rule in run_impl
+      case Op::kAdd:
+      case Op::kSub:
+      case Op::kMul:
+      case Op::kScale:
+      case Op::kDivConst:
+      case Op::kDiv:
+      case Op::kNeg:
+      case Op::kSquare:
+      case Op::kPowInt:
+      case Op::kAbs:
+      case Op::kMin:
+      case Op::kMax:
+        break;
+      default:
+        ++slow;
+        break;
+    }
+  }
+  return ops > 0 ? double(slow) / ops : 0.0;
+}
+
 template class BatchIntervalEvalK<2>;
 template class BatchIntervalEvalK<4>;
 template class BatchIntervalEvalK<8>;

@@ -57,23 +57,41 @@ Interval mean_value_form(RenderContext& ctx, const IBox& box) {
 /// keeps. c is enclosed in a tiny box (the double arithmetic of eye + tc dc rounds); when that box
 /// is not inside `box` (a piece clipped by the bounds), the box form around the box's centre is
 /// used alone. Valid where the box form is.
-Interval piece_mean_value_form(RenderContext& ctx, const IBox& box, const IGrad& g,
-                               const IBox& dirs, const Interval& t) {
-  const double tc = t.mid();
-  const IBox dc(Interval(dirs.x.mid()), Interval(dirs.y.mid()), Interval(dirs.z.mid()));
-  const IBox cb = segment_box(ctx.setup.frame.eye, dc, Interval(tc));
-  if (!box.contains(cb)) return mean_value_form(ctx, box, g);  // the box form alone
-  const Interval fc = ctx.eval(cb);
-  Interval along = Interval(0.0), across = Interval(0.0), boxed = fc;
-  for (int i = 0; i < 3; ++i) {
-    const Interval& gi = g.g[static_cast<std::size_t>(i)];
-    along += gi * dirs[i];
-    across += gi * (dirs[i] - dc[i]);
-    boxed += gi * (box[i] - cb[i]);
+///
+/// In two steps, so that the depth searches of sibling beams can evaluate their points together:
+/// PieceMeanValue names the point box c to evaluate, form() takes F(c).
+struct PieceMeanValue {
+  IBox dc;             ///< the central direction
+  IBox c;              ///< the box of the point around which the form is taken
+  bool rayed = false;  ///< c is on the central ray inside `box`: the ray form too
+  PieceMeanValue() = default;
+  PieceMeanValue(const RenderContext& ctx, const IBox& box, const IBox& dirs, const Interval& t)
+      : dc(Interval(dirs.x.mid()), Interval(dirs.y.mid()), Interval(dirs.z.mid())) {
+    c = segment_box(ctx.setup.frame.eye, dc, Interval(t.mid()));
+    rayed = box.contains(c);
+    if (!rayed) {
+      for (int i = 0; i < 3; ++i) c[i] = Interval(box[i].mid());
+    }
   }
-  const Interval rayed = fc + along * (t - tc) + Interval(tc) * across;
-  return intersect(intersect(rayed, boxed), g.v);
-}
+  Interval form(const Interval& fc, const IBox& box, const IGrad& g, const IBox& dirs,
+                const Interval& t) const {
+    if (!rayed) {
+      Interval f = fc;
+      for (int i = 0; i < 3; ++i) f += g.g[static_cast<std::size_t>(i)] * (box[i] - c[i]);
+      return intersect(f, g.v);
+    }
+    const double tc = t.mid();
+    Interval along = Interval(0.0), across = Interval(0.0), boxed = fc;
+    for (int i = 0; i < 3; ++i) {
+      const Interval& gi = g.g[static_cast<std::size_t>(i)];
+      along += gi * dirs[i];
+      across += gi * (dirs[i] - dc[i]);
+      boxed += gi * (box[i] - c[i]);
+    }
+    const Interval rayed_form = fc + along * (t - tc) + Interval(tc) * across;
+    return intersect(intersect(rayed_form, boxed), g.v);
+  }
+};
 
 /// Sign of F on the (unclipped) slice of the beam at depth t: +1 / -1 when proved with intervals
 /// on a slice inside the bounds without partial domain, else 0.
@@ -157,94 +175,225 @@ const BeamSearch& traced(const BeamSearch& out, const char* reason, BeamTrace* t
   return out;
 }
 
-/// False when F certainly excludes 0 on the depth piece [a, b] of the beam with directions
-/// `dirs` (its box `box` is inside the bounds): by the natural enclosure or, on a `narrow` piece,
-/// by the mean-value form. Records each enclosure into `trace` when it is not null. Sets
-/// `natural_kept` to whether the piece is narrow and its natural enclosure kept it; with
-/// `grad_first` (where the mean-value form is allowed) a narrow piece's gradient is evaluated at
-/// once.
-bool piece_may_hit(RenderContext& ctx, const IBox& box, const IBox& dirs, double a, double b,
-                   bool narrow, BeamTrace* trace, bool* natural_kept, bool grad_first) {
-  // Where the natural enclosure of narrow pieces rarely excludes 0 (the budget's record, or the
-  // caller's `grad_first`), the gradient evaluation of the mean-value form comes first: its
-  // value part is that same natural enclosure, so the outcome is the same either way.
-  bool partial = false;
-  IGrad g;
-  const bool have_grad = narrow && (ctx.mv.gradient_first(MeanValueBudget::kPiece) ||
-                                    (grad_first && ctx.mv.allowed()));
-  if (have_grad) g = ctx.eval_grad(box, &partial);
-  const Interval f = have_grad ? g.v : ctx.eval(box, &partial);
-  const bool kept = !f.is_empty() && f.contains_zero();
-  *natural_kept = narrow && kept && !partial;
-  if (narrow) ctx.mv.record_natural(MeanValueBudget::kPiece, !kept);
-  if (trace) trace->pieces.push_back({Interval(a, b), box, f, kept, partial, false});
-  if (!kept) return false;
-  // A piece a few tolerances wide near (but off) the surface often has 0 in its natural
-  // enclosure only through overestimation: the sharper mean-value form excludes it at once,
-  // where bisection would exclude it one tolerance-sized piece at a time.
-  if (partial || !narrow || !ctx.mv.allowed()) return true;
-  bool gpartial = false;
-  if (!have_grad) g = ctx.eval_grad(box, &gpartial);
-  const Interval fm =
-      gpartial ? Interval::whole() : piece_mean_value_form(ctx, box, g, dirs, Interval(a, b));
-  ctx.mv.record(!fm.contains_zero());
-  if (trace) trace->pieces.push_back({Interval(a, b), box, fm, fm.contains_zero(), false, true});
-  return fm.contains_zero();
-}
-
-/// The first depth piece of a beam that may hold the surface, and its box.
-struct FirstPiece {
-  double a = 0, b = 0;
-  IBox box;
-};
-
-/// Searches the depths `range` of the beam `rect` (directions `dirs`) front to back for the
-/// first piece that may hold the surface, no wider than the depth tolerance (times the beam's
-/// lateral width at the piece's far end). Nothing when every piece is excluded.
+/// The depth searches of EvalRaySet, for one beam or for up to 4 sibling beams side by side.
 ///
-/// An adaptive march: the piece at the front starts one tolerance wide; a kept piece is halved
-/// (the front half is tried next), and after kMarchGrowAfter excluded pieces in a row the next
-/// one is kMarchGrow times wider. Every depth in front of the piece returned was excluded, as
-/// with bisection; but the pieces follow how far from the surface the beam runs, where
-/// bisection's halves of the whole range do not: beside a silhouette the widest piece that can
-/// be excluded grows slowly along the beam, and bisection spent two evaluations per level on
-/// the way down to it and halves that were kept only for being too wide.
-std::optional<FirstPiece> first_piece(RenderContext& ctx, const PixelRect& rect, const IBox& dirs,
-                                      Interval range, BeamTrace* trace) {
-  const RenderSetup& su = ctx.setup;
-  // Lateral extent of the beam per unit depth (pixels -> world), for the stopping rule.
-  const double lateral = std::max(rect.width(), rect.height()) * su.frame.scale;
-  const double abs_floor = 1e-12 * std::max(1.0, range.hi());
-  const double tol_factor = su.settings.depth_tolerance;
-  double a = range.lo();
-  double w = std::max(abs_floor, tol_factor * lateral * a);  // width of the next piece
-  int run = 0;                                               // pieces excluded in a row
-  bool natural_kept = false;  // the last piece was narrow and its natural enclosure kept it
-  while (a < range.hi()) {
-    const double b = w < range.hi() - a ? a + w : range.hi();
-    const IBox box = clip_box(segment_box(su.frame.eye, dirs, Interval(a, b)), ctx.bounds());
-    if (box.is_empty()) {
-      if (trace)
-        trace->pieces.push_back({Interval(a, b), box, Interval::empty(), false, false, false});
-    } else {
-      const double tol = std::max(abs_floor, tol_factor * lateral * b);
-      const bool narrow = b - a <= kMeanValueWidth * tol;
-      // The natural enclosure of the narrow piece before kept it: this one's likely keeps it
-      // too (a stretch beside a silhouette), so its gradient comes first.
-      const bool grad_first = natural_kept;
-      if (piece_may_hit(ctx, box, dirs, a, b, narrow, trace, &natural_kept, grad_first)) {
-        const double m = 0.5 * (a + b);
-        if (b - a <= tol || m <= a || m >= b) return FirstPiece{a, b, box};
-        w = m - a;
-        run = 0;
-        continue;
+/// Each beam's search goes front to back for the first piece that may hold the surface, no wider
+/// than the depth tolerance (times the beam's lateral width at the piece's far end); none when
+/// every piece is excluded. An adaptive march: the piece at the front starts one tolerance wide;
+/// a kept piece is halved (the front half is tried next), and after kMarchGrowAfter excluded
+/// pieces in a row the next one is kMarchGrow times wider. Every depth in front of the piece
+/// found was excluded, as with bisection; but the pieces follow how far from the surface the
+/// beam runs, where bisection's halves of the whole range do not: beside a silhouette the widest
+/// piece that can be excluded grows slowly along the beam, and bisection spent two evaluations
+/// per level on the way down to it and halves that were kept only for being too wide.
+///
+/// Sibling beams (the children of one beam) search the same range in rounds: each round takes
+/// the next piece of every beam still searching, evaluates their natural enclosures (or their
+/// gradients first) in one pass of the batched evaluators, then the gradients and the points of
+/// the mean-value forms they need in one pass each (the batch gives the intervals of the
+/// one-box evaluators, bit for bit). Each beam follows its own mean-value budget: with a budget
+/// per beam its search is the one it makes alone; where siblings share one (the sub-beams of a
+/// pixel), it is updated in the order of the rounds rather than beam after beam.
+class DepthSearch {
+ public:
+  static constexpr int kMost = 4;
+
+  DepthSearch(RenderContext& ctx, Interval range) : ctx_(ctx), range_(range) {}
+
+  /// Adds a beam with directions `dirs` `width` pixels wide; its result goes to `out`, its
+  /// pieces to `pieces` when that is not null.
+  void add(const IBox& dirs, double width, FirstPiece* out, std::vector<DepthPieceTrace>* pieces,
+           MeanValueBudget* mv) {
+    IAA_CHECK(n_ < kMost);
+    Lane& l = lanes_[n_++];
+    l.mv = mv;
+    l.dirs = dirs;
+    l.lateral = width * ctx_.setup.frame.scale;
+    l.a = range_.lo();
+    l.w = std::max(abs_floor(), tol_factor() * l.lateral * l.a);
+    l.out = out;
+    l.pieces = pieces;
+    l.active = l.a < range_.hi();
+    *out = FirstPiece{};
+  }
+
+  void run() {
+    for (bool any = true; any;) {
+      any = false;
+      int nv = 0, ng = 0;
+      int vi[kMost], gi[kMost];
+      for (int i = 0; i < n_; ++i) {
+        Lane& l = lanes_[i];
+        l.evaluated = l.need_mv = false;
+        if (!l.active) continue;
+        any = true;
+        l.b = l.w < range_.hi() - l.a ? l.a + l.w : range_.hi();
+        l.box =
+            clip_box(segment_box(ctx_.setup.frame.eye, l.dirs, Interval(l.a, l.b)), ctx_.bounds());
+        if (l.box.is_empty()) {
+          record(l, Interval::empty(), false, false, false);
+          exclude(l);
+          continue;
+        }
+        l.tol = std::max(abs_floor(), tol_factor() * l.lateral * l.b);
+        l.narrow = l.b - l.a <= kMeanValueWidth * l.tol;
+        // Where the natural enclosure of narrow pieces rarely excludes 0 (the budget's record),
+        // or kept this beam's narrow piece before (a stretch beside a silhouette), the gradient
+        // evaluation of the mean-value form comes first: its value part is that same natural
+        // enclosure, so the outcome is the same either way.
+        l.grad = l.narrow && (l.mv->gradient_first(MeanValueBudget::kPiece) ||
+                              (l.natural_kept && l.mv->allowed()));
+        l.evaluated = true;
+        (l.grad ? gi[ng++] : vi[nv++]) = i;
+      }
+      values(vi, nv, &Lane::box, &Lane::f, &Lane::partial);
+      grads(gi, ng, &Lane::partial);
+      // The natural enclosures' verdicts; the mean-value form where it may exclude what they kept
+      // (a narrow piece a few tolerances wide near, but off, the surface).
+      int nm = 0;
+      int mi[kMost];
+      for (int i = 0; i < n_; ++i) {
+        Lane& l = lanes_[i];
+        if (!l.evaluated) continue;
+        if (l.grad) l.f = l.g.v;
+        const bool kept = !l.f.is_empty() && l.f.contains_zero();
+        l.natural_kept = l.narrow && kept && !l.partial;
+        if (l.narrow) l.mv->record_natural(MeanValueBudget::kPiece, !kept);
+        record(l, l.f, kept, l.partial, false);
+        if (!kept) {
+          exclude(l);
+        } else if (l.partial || !l.narrow || !l.mv->allowed()) {
+          keep(l);
+        } else {
+          l.need_mv = true;
+          l.gpartial = false;
+          if (!l.grad) mi[nm++] = i;
+        }
+      }
+      grads(mi, nm, &Lane::gpartial);
+      int np = 0;
+      int pi[kMost];
+      for (int i = 0; i < n_; ++i) {
+        Lane& l = lanes_[i];
+        if (!l.need_mv || l.gpartial) continue;
+        l.mvf = PieceMeanValue(ctx_, l.box, l.dirs, Interval(l.a, l.b));
+        l.point = l.mvf.c;
+        pi[np++] = i;
+      }
+      values(pi, np, &Lane::point, &Lane::fc, nullptr);
+      for (int i = 0; i < n_; ++i) {
+        Lane& l = lanes_[i];
+        if (!l.need_mv) continue;
+        const Interval fm = l.gpartial ? Interval::whole()
+                                       : l.mvf.form(l.fc, l.box, l.g, l.dirs, Interval(l.a, l.b));
+        l.mv->record(!fm.contains_zero());
+        record(l, fm, fm.contains_zero(), false, true);
+        if (fm.contains_zero()) {
+          keep(l);
+        } else {
+          exclude(l);
+        }
       }
     }
-    a = b;
-    if (++run >= kMarchGrowAfter) w *= kMarchGrow;
   }
-  return std::nullopt;
-}
+
+ private:
+  struct Lane {
+    IBox dirs;
+    double lateral = 0;
+    double a = 0, w = 0, b = 0, tol = 0;
+    int run = 0;                // pieces excluded in a row
+    bool natural_kept = false;  // the last piece was narrow and its natural enclosure kept it
+    bool active = false;
+    FirstPiece* out = nullptr;
+    std::vector<DepthPieceTrace>* pieces = nullptr;
+    MeanValueBudget* mv = nullptr;  ///< the budget its mean-value forms follow
+    // This round's piece:
+    IBox box;
+    bool evaluated = false, narrow = false, grad = false, partial = false;
+    bool need_mv = false, gpartial = false;
+    Interval f, fc;
+    IGrad g;
+    PieceMeanValue mvf;
+    IBox point;
+  };
+
+  double abs_floor() const { return 1e-12 * std::max(1.0, range_.hi()); }
+  double tol_factor() const { return ctx_.setup.settings.depth_tolerance; }
+
+  void record(Lane& l, const Interval& f, bool kept, bool partial, bool mean_value) {
+    if (l.pieces) l.pieces->push_back({Interval(l.a, l.b), l.box, f, kept, partial, mean_value});
+  }
+  void exclude(Lane& l) {
+    l.a = l.b;
+    if (++l.run >= kMarchGrowAfter) l.w *= kMarchGrow;
+    l.active = l.a < range_.hi();
+  }
+  void keep(Lane& l) {
+    const double m = 0.5 * (l.a + l.b);
+    if (l.b - l.a <= l.tol || m <= l.a || m >= l.b) {
+      l.out->found = true;
+      l.out->a = l.a;
+      l.out->b = l.b;
+      l.out->box = l.box;
+      l.active = false;
+      return;
+    }
+    l.w = m - l.a;
+    l.run = 0;
+  }
+
+  /// F over lanes[which[j]].*box into .*f (and the partial-domain flags), counted per lane: in
+  /// one pass of the batched evaluator for two or more.
+  void values(const int* which, int k, IBox Lane::*box, Interval Lane::*f, bool Lane::*partial) {
+    if (k == 0) return;
+    ctx_.evals += static_cast<std::uint64_t>(k);
+    for (int j = 0; j < k; ++j) ++lanes_[which[j]].out->evals;
+    if (k >= 2 && ctx_.batch) {
+      IBox boxes[kMost];
+      Interval r[kMost];
+      for (int j = 0; j < k; ++j) boxes[j] = lanes_[which[j]].*box;
+      ctx_.batch->eval(boxes, k, r);
+      for (int j = 0; j < k; ++j) {
+        lanes_[which[j]].*f = r[j];
+        if (partial) lanes_[which[j]].*partial = ctx_.batch->partial_domain(j);
+      }
+      return;
+    }
+    for (int j = 0; j < k; ++j) {
+      Lane& l = lanes_[which[j]];
+      l.*f = ctx_.se.eval(l.*box);
+      if (partial) l.*partial = ctx_.se.partial_domain();
+    }
+  }
+  /// F and its gradient over lanes[which[j]].box into .g (and the flags), the same way.
+  void grads(const int* which, int k, bool Lane::*partial) {
+    if (k == 0) return;
+    ctx_.evals += static_cast<std::uint64_t>(k);
+    for (int j = 0; j < k; ++j) ++lanes_[which[j]].out->evals;
+    if (k >= 2 && ctx_.batch_grad) {
+      IBox boxes[kMost];
+      IGrad r[kMost];
+      for (int j = 0; j < k; ++j) boxes[j] = lanes_[which[j]].box;
+      ctx_.batch_grad->eval(boxes, k, r);
+      for (int j = 0; j < k; ++j) {
+        lanes_[which[j]].g = r[j];
+        lanes_[which[j]].*partial = ctx_.batch_grad->partial_domain(j);
+      }
+      return;
+    }
+    for (int j = 0; j < k; ++j) {
+      Lane& l = lanes_[which[j]];
+      l.g = ctx_.se.eval_grad(l.box);
+      l.*partial = ctx_.se.partial_domain();
+    }
+  }
+
+  RenderContext& ctx_;
+  Interval range_;
+  Lane lanes_[kMost];
+  int n_ = 0;
+};
 
 /// The near slice of a full-coverage proof for a beam whose first kept piece starts at `a` and
 /// is `w` wide: at t_near, or up to 2w before it. No ray meets the surface in the excluded pieces
@@ -323,14 +472,36 @@ const char* prove_full_coverage(RenderContext& ctx, Interval range, double w, Be
 
 }  // namespace
 
+void first_pieces(RenderContext& ctx, const PixelRect* rects, int n, Interval range, bool traced,
+                  FirstPiece* out, MeanValueBudget* budgets) {
+  IAA_CHECK(n >= 1 && n <= DepthSearch::kMost);
+  DepthSearch search(ctx, range);
+  for (int i = 0; i < n; ++i) {
+    const PixelRect& r = rects[i];
+    search.add(ctx.setup.frame.dir_box(r), std::max(r.width(), r.height()), &out[i],
+               traced ? &out[i].pieces : nullptr, budgets ? &budgets[i] : &ctx.mv);
+  }
+  if (!range.is_empty()) search.run();
+}
+
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
-                        const BeamSearch* parent, BeamTrace* trace, bool prove_full) {
+                        const BeamSearch* parent, BeamTrace* trace, bool prove_full,
+                        FirstPiece* first) {
   BeamSearch out;
   out.dirs = ctx.setup.frame.dir_box(rect);
   if (trace) trace->searched = range;
   if (range.is_empty()) return out;
-  const std::optional<FirstPiece> first = first_piece(ctx, rect, out.dirs, range, trace);
-  if (!first) {
+  FirstPiece own;
+  if (first) {
+    if (trace) trace->pieces = std::move(first->pieces);
+  } else {
+    DepthSearch search(ctx, range);
+    search.add(out.dirs, std::max(rect.width(), rect.height()), &own,
+               trace ? &trace->pieces : nullptr, &ctx.mv);
+    search.run();
+    first = &own;
+  }
+  if (!first->found) {
     out.result = BeamResult::kMiss;
     if (trace) {
       trace->result = out.result;

@@ -10,6 +10,9 @@
 // - Partial: anything else. Some ray may hit; none hits before t_near.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "core/interval.h"
 #include "render/context.h"
 #include "render/trace.h"
@@ -29,6 +32,26 @@ struct BeamSearch {
   int sign = 0;
 };
 
+/// The first depth piece of a beam that may hold the surface (EvalRaySet's depth search), found
+/// ahead of the rest of its EvalRaySet by first_pieces().
+struct FirstPiece {
+  bool found = false;  ///< false: every piece was excluded (a Miss)
+  double a = 0, b = 0;
+  IBox box;
+  std::uint64_t evals = 0;              ///< interval evaluations the search made
+  std::vector<DepthPieceTrace> pieces;  ///< its pieces, when traced
+};
+
+/// The depth searches of the sibling beams `rects[0..n)` (1 <= n <= 4: the children of one beam,
+/// over the same depth range), side by side: each round takes one piece of each beam and
+/// evaluates them in one pass of the batched evaluators where the context has them. Each beam's
+/// search is the one eval_ray_set() makes, piece by piece, with the same intervals. Mean-value
+/// budgets: with `budgets`, beam i follows budgets[i] (then its search is exactly the one
+/// eval_ray_set() makes from that budget); else all follow `ctx.mv`, updated in the order of the
+/// rounds rather than beam after beam. `traced`: record each beam's pieces in `out`.
+void first_pieces(RenderContext& ctx, const PixelRect* rects, int n, Interval range, bool traced,
+                  FirstPiece* out, MeanValueBudget* budgets = nullptr);
+
 /// Runs EvalRaySet on the beam `rect` over depths `range`. A piece stops being bisected when its
 /// depth extent is at most settings.depth_tolerance times the beam's lateral width at its far
 /// end. Records every piece into `trace` when it is not null. Needs a RoundingScope.
@@ -39,8 +62,12 @@ struct BeamSearch {
 ///
 /// With `prove_full` false a beam that is not a Miss is returned as Partial without trying the
 /// slices for full coverage (a caller that would gain nothing from the proof).
+///
+/// `first`, when not null, is this beam's depth search already made (first_pieces()): the rest of
+/// EvalRaySet starts from it (its pieces go to `trace`).
 BeamSearch eval_ray_set(RenderContext& ctx, const PixelRect& rect, Interval range,
-                        const BeamSearch* parent, BeamTrace* trace, bool prove_full = true);
+                        const BeamSearch* parent, BeamTrace* trace, bool prove_full = true,
+                        FirstPiece* first = nullptr);
 
 /// A beam inside a Full beam `parent`, without any search: every ray of the parent, so every ray
 /// of this beam, meets the surface in [parent t_near, parent t_far], and the parent's proof (its

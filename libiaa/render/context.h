@@ -3,7 +3,10 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
+#include "expr/eval_batch.h"
+#include "expr/eval_batch_grad.h"
 #include "expr/specialize.h"
 #include "render/mean_value_budget.h"
 #include "scene/camera.h"
@@ -32,8 +35,19 @@ struct RenderContext {
   SpecializingEval se;      ///< every evaluation of f, with min/max branches pruned by regions
   std::uint64_t evals = 0;  ///< interval evaluations so far (both interval modes)
   MeanValueBudget mv;       ///< of the current screen block or pixel
+  /// Four boxes per pass (the depth pieces of sibling beams searched side by side, beam.h):
+  /// the intervals `se` gives, where the tape has no min or max (`se` then specializes nothing)
+  /// and at most a quarter of its operations run lane by lane (blobby's exp, 0.14 of its
+  /// operations: 0.91x the CPU time batched; the gyroid's sin and cos, 0.375: 1.17x).
+  std::optional<BatchIntervalEvalK<4>> batch;
+  std::optional<BatchIntervalGradEvalK<4>> batch_grad;
 
-  explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {}
+  explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {
+    if (!s.scene->tape->has_min_max() && lane_by_lane_share(*s.scene->tape) <= 0.25) {
+      batch.emplace(*s.scene->tape);
+      batch_grad.emplace(*s.scene->tape);
+    }
+  }
 
   /// F over a box, counted. `partial` receives partial_domain().
   Interval eval(const IBox& b, bool* partial = nullptr) {

@@ -25,7 +25,7 @@ PixelResult run_kernel(RenderContext& ctx, const PixelJob& job, AdaptiveCorners*
       r = adaptive_pixel(ctx, job, *corners, trace);
       break;
   }
-  r.evals = static_cast<std::uint32_t>(ctx.evals - e0);
+  r.evals = static_cast<std::uint32_t>(ctx.evals - e0 + (job.first ? job.first->evals : 0));
   if (trace) trace->color = {r.color.r, r.color.g, r.color.b};
   return r;
 }

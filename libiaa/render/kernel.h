@@ -24,6 +24,9 @@ struct PixelJob {
   Interval range;                    ///< depths left: no ray of the pixel meets the surface before
   const BeamSearch* full = nullptr;  ///< the block just above, when it is Full; else null
   MeanValueBudget mv;                ///< inherited from the block just above
+  /// The IAA pixel beam's depth search, made ahead with its siblings' (first_pieces()), when
+  /// not null: `mv` is then the budget after it. Its evaluations count as the pixel's.
+  FirstPiece* first = nullptr;
 };
 
 /// The adaptive method's corner rays on a fine grid (2^max_level positions per pixel), shared by
@@ -90,9 +93,10 @@ int record_beam(PixelTrace& trace, BeamTrace&& bt, const PixelRect& rect, int le
 
 /// Runs EvalRaySet on a screen block (or on a pixel's own beam, level 0), starting with the
 /// mean-value budget `mv`; records it when tracing, as a child of the beam `parent`.
+/// `first`: its depth search made ahead (first_pieces()), `mv` the budget after it.
 BeamSearch search_block(RenderContext& ctx, const PixelRect& rect, int level, Interval range,
                         const BeamSearch* full, const MeanValueBudget& mv, PixelTrace* trace,
-                        int parent);
+                        int parent, FirstPiece* first = nullptr);
 
 /// The pixel's own beam (level 0), searched like a screen block: the depth range it leaves for
 /// the pixel's rays, or nothing when it is a Miss (the pixel is background).

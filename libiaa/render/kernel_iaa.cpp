@@ -182,7 +182,7 @@ class IaaPixel {
   PixelResult run(const PixelJob& job) {
     if (tr_) first_beam_ = tr_->beams.size();
     beam(PixelRect{double(job.x), double(job.y), double(job.x + 1), double(job.y + 1)}, 0,
-         job.range, job.full, last_beam(tr_));
+         job.range, job.full, last_beam(tr_), job.first);
     raise_to_min_coverage();
     PixelResult r;
     r.color = to_rgb(color_);
@@ -220,7 +220,7 @@ class IaaPixel {
 
   /// Searches the beam `rect`, shades it or splits it into four, and records it when tracing.
   void beam(const PixelRect& rect, int level, Interval range, const BeamSearch* parent_full,
-            int parent) {
+            int parent, FirstPiece* first = nullptr) {
     BeamTrace bt;
     BeamTrace* t = tr_ ? &bt : nullptr;
     const std::uint64_t e0 = ctx_.evals;
@@ -237,19 +237,29 @@ class IaaPixel {
       if (t) *t = BeamTrace{};  // what inherited_leaf() recorded is replaced by the search
       s = parent_full && last
               ? inherit_full(ctx_, rect, *parent_full, t)
-              : eval_ray_set(ctx_, rect, range, parent_full, t, !(last && any_full_));
+              : eval_ray_set(ctx_, rect, range, parent_full, t, !(last && any_full_), first);
       decision = decide(rect, last, range, s, t);
     }
+    // The depth search made ahead for this beam (with its siblings) counts as its own.
+    const std::uint64_t evals = ctx_.evals - e0 + (first ? first->evals : 0);
     const int index =
-        tr_ ? record_beam(*tr_, std::move(bt), rect, level, parent, decision, ctx_.evals - e0) : -1;
+        tr_ ? record_beam(*tr_, std::move(bt), rect, level, parent, decision, evals) : -1;
     if (decision != BeamDecision::kSplit) return;
     const Interval sub = child_range(s, range);
     const BeamSearch* pf = s.result == BeamResult::kFull ? &s : nullptr;
     const double um = 0.5 * (rect.u0 + rect.u1), vm = 0.5 * (rect.v0 + rect.v1);
-    beam({rect.u0, rect.v0, um, vm}, level + 1, sub, pf, index);
-    beam({um, rect.v0, rect.u1, vm}, level + 1, sub, pf, index);
-    beam({rect.u0, vm, um, rect.v1}, level + 1, sub, pf, index);
-    beam({um, vm, rect.u1, rect.v1}, level + 1, sub, pf, index);
+    const PixelRect kids[4] = {{rect.u0, rect.v0, um, vm},
+                               {um, rect.v0, rect.u1, vm},
+                               {rect.u0, vm, um, rect.v1},
+                               {um, vm, rect.u1, rect.v1}};
+    // The children of a Partial beam all search `sub` from the front: side by side, four boxes
+    // per pass of the batched evaluators (where the tape has them). A Full parent's children
+    // mostly take its proof without a search of their own (inherited_leaf, inherit_full).
+    FirstPiece firsts[4];
+    const bool together = !pf && ctx_.batch;
+    if (together) first_pieces(ctx_, kids, 4, sub, tr_ != nullptr, firsts);
+    for (int k = 0; k < 4; ++k)
+      beam(kids[k], level + 1, sub, pf, index, together ? &firsts[k] : nullptr);
   }
 
   /// What becomes of a searched beam that is not split: background, or a shaded leaf added to

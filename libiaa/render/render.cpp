@@ -94,15 +94,17 @@ struct BlockTask {
   }
   /// The block of edge `size` at (bx, by), searched over `range` after the block above (`full`
   /// when that one is Full, its budget `mv`): background, or passed on to its four children.
+  /// `first`, when not null: the block's (or pixel's) depth search made ahead with its
+  /// siblings', and `mv` the budget after it.
   void run(int bx, int by, int size, Interval range, const BeamSearch* full,
-           const MeanValueBudget& mv) {
+           const MeanValueBudget& mv, FirstPiece* first = nullptr) {
     if (size < kMinBlock) {
-      store(bx, by, run_kernel(ctx, PixelJob{bx, by, range, full, mv}, corners, nullptr));
+      store(bx, by, run_kernel(ctx, PixelJob{bx, by, range, full, mv, first}, corners, nullptr));
       return;
     }
     const std::uint64_t e0 = ctx.evals;
     const BeamSearch s = search_block(ctx, block_rect(bx, by, size, film.width, film.height),
-                                      block_level(size), range, full, mv, nullptr, -1);
+                                      block_level(size), range, full, mv, nullptr, -1, first);
     const MeanValueBudget after = ctx.mv.inherited();
     block_evals += ctx.evals - e0;
     if (s.result == BeamResult::kMiss) {
@@ -112,10 +114,38 @@ struct BlockTask {
     const Interval sub = child_range(s, range);
     if (size == kRootBlock && corners) corners->range = sub;
     const int h = size / 2;
+    const BeamSearch* kid_full = s.result == BeamResult::kFull ? &s : nullptr;
+    int kx[4], ky[4], n = 0;
     for (int k = 0; k < 4; ++k) {
       const int cx = bx + (k & 1) * h, cy = by + (k >> 1) * h;
       if (cx >= film.width || cy >= film.height || !intersects_window(cx, cy, h)) continue;
-      run(cx, cy, h, sub, s.result == BeamResult::kFull ? &s : nullptr, after);
+      kx[n] = cx;
+      ky[n++] = cy;
+    }
+    // The children's depth searches side by side, each from its own copy of the budget: the
+    // same searches as one at a time (first_pieces), four boxes per pass of the batched
+    // evaluators. Blocks search whatever the block above found; an IAA pixel searches when the
+    // block above is not Full (else it takes the block's proof first, kernel_iaa.cpp).
+    FirstPiece firsts[4];
+    MeanValueBudget budgets[4] = {after, after, after, after};
+    const bool pixels = h < kMinBlock;
+    const bool together =
+        ctx.batch && n >= 2 &&
+        (!pixels || (!kid_full && ctx.setup.settings.method == RenderMethod::kIaa));
+    if (together) {
+      PixelRect rects[4];
+      for (int k = 0; k < n; ++k) {
+        rects[k] =
+            pixels ? PixelRect{double(kx[k]), double(ky[k]), double(kx[k] + 1), double(ky[k] + 1)}
+                   : block_rect(kx[k], ky[k], h, film.width, film.height);
+      }
+      const std::uint64_t e1 = ctx.evals;
+      first_pieces(ctx, rects, n, sub, false, firsts, budgets);
+      if (!pixels) block_evals += ctx.evals - e1;  // a pixel's count holds its own (run_kernel)
+    }
+    for (int k = 0; k < n; ++k) {
+      run(kx[k], ky[k], h, sub, kid_full, together ? budgets[k] : after,
+          together ? &firsts[k] : nullptr);
     }
   }
 };
@@ -295,11 +325,11 @@ void sum_pixel_stats(Film& film) {
 
 BeamSearch search_block(RenderContext& ctx, const PixelRect& rect, int level, Interval range,
                         const BeamSearch* full, const MeanValueBudget& mv, PixelTrace* trace,
-                        int parent) {
+                        int parent, FirstPiece* first) {
   BeamTrace bt;
   const std::uint64_t e0 = ctx.evals;
   ctx.mv = mv;
-  const BeamSearch s = eval_ray_set(ctx, rect, range, full, trace ? &bt : nullptr);
+  const BeamSearch s = eval_ray_set(ctx, rect, range, full, trace ? &bt : nullptr, true, first);
   if (trace) {
     const BeamDecision d =
         s.result == BeamResult::kMiss ? BeamDecision::kBackground : BeamDecision::kDescend;

@@ -220,6 +220,78 @@ TEST(EvalRaySet, ExcludedPiecesTileTheDepthsInFrontOfTheHit) {
   EXPECT_GT(hits, 50);
 }
 
+// Sibling beams searched side by side (first_pieces: four boxes per pass of the batched
+// evaluators) find what each finds alone: with a mean-value budget per beam, the same pieces with
+// the same enclosures (bit for bit), the same first piece and the same evaluation count as
+// eval_ray_set's own search from that budget. Quadrants of random beams of every size, with
+// every number of siblings 1..4, in scenes the batch serves (no min/max, few lane-by-lane
+// operations: polynomials, and blobby's exp) and with SSE2 and AVX2 lanes alike.
+TEST(EvalRaySet, SiblingsSearchedTogetherFindWhatEachFindsAlone) {
+  std::mt19937 rng(4242);
+  int compared = 0, found = 0;
+  for (const char* name : {"chubs", "teardrop", "barth_sextic", "klein_bottle", "blobby"}) {
+    const Scene s = test::bundled(name, 64);
+    const RenderSetup setup(s, RenderSettings{});
+    RoundingScope scope;
+    RenderContext ctx(setup);
+    ASSERT_TRUE(ctx.batch.has_value()) << name;
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    for (int trial = 0; trial < 40; ++trial) {
+      const double w = std::ldexp(1.0, static_cast<int>(U(rng) * 8) - 3);  // 1/8 to 16 pixels
+      const double u0 = U(rng) * (64 - w), v0 = U(rng) * (64 - w), h = 0.5 * w;
+      const PixelRect kids[4] = {{u0, v0, u0 + h, v0 + h},
+                                 {u0 + h, v0, u0 + w, v0 + h},
+                                 {u0, v0 + h, u0 + h, v0 + w},
+                                 {u0 + h, v0 + h, u0 + w, v0 + w}};
+      // A range from the front of the depths, or from partway in (a parent's t_near).
+      const Interval range(setup.depth.lo() + U(rng) * 0.5 * setup.depth.width(), setup.depth.hi());
+      const int n = 1 + trial % 4;
+      MeanValueBudget start;
+      for (int k = 0; k < trial % 20; ++k)
+        start.record_natural(MeanValueBudget::kPiece, k % 3 == 0);
+      for (int k = 0; k < trial % 12; ++k) start.record(k % 2 == 0);
+      ctx.batch->use_baseline(trial % 2 == 1);
+      ctx.batch_grad->use_baseline(trial % 2 == 1);
+      MeanValueBudget budgets[4] = {start, start, start, start};
+      FirstPiece together[4];
+      first_pieces(ctx, kids, n, range, true, together, budgets);
+      for (int k = 0; k < n; ++k) {
+        std::ostringstream where;
+        where << name << " beam [" << kids[k].u0 << ", " << kids[k].v0 << "; w " << h << "] of "
+              << n;
+        ctx.mv = start;
+        BeamTrace alone;
+        const std::uint64_t e0 = ctx.evals;
+        const BeamSearch b = eval_ray_set(ctx, kids[k], range, nullptr, &alone, false);
+        const FirstPiece& t = together[k];
+        EXPECT_EQ(t.evals, ctx.evals - e0) << where.str();
+        EXPECT_EQ(t.found, b.result != BeamResult::kMiss) << where.str();
+        if (t.found && b.result != BeamResult::kMiss) {
+          EXPECT_EQ(t.a, b.t_near) << where.str();
+          ++found;
+        }
+        ASSERT_EQ(t.pieces.size(), alone.pieces.size()) << where.str();
+        for (std::size_t p = 0; p < t.pieces.size(); ++p) {
+          const DepthPieceTrace &x = t.pieces[p], &y = alone.pieces[p];
+          EXPECT_EQ(x.t.lo(), y.t.lo()) << where.str() << " piece " << p;
+          EXPECT_EQ(x.t.hi(), y.t.hi()) << where.str() << " piece " << p;
+          EXPECT_EQ(x.f.lo(), y.f.lo()) << where.str() << " piece " << p;
+          EXPECT_EQ(x.f.hi(), y.f.hi()) << where.str() << " piece " << p;
+          EXPECT_EQ(x.kept, y.kept) << where.str() << " piece " << p;
+          EXPECT_EQ(x.mean_value, y.mean_value) << where.str() << " piece " << p;
+        }
+        // The budget after the search is the one the beam's own search leaves (slices aside:
+        // eval_ray_set was told not to try full coverage).
+        EXPECT_EQ(budgets[k].tries, ctx.mv.tries) << where.str();
+        EXPECT_EQ(budgets[k].hits, ctx.mv.hits) << where.str();
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 400);
+  EXPECT_GT(found, 100);
+}
+
 // The estimator encloses n . d at the first hits: for random Full beams (before and after
 // tighten_far, over 1 to 8 depth pieces), the unit normal at the first root of random rays of the
 // beam, dotted with the ray's unit direction, lies in the estimator's interval.
