@@ -2,7 +2,8 @@
 //
 // A beam is a rectangle R of pixel coordinates; its segment over depths [t0, t1] is enclosed by
 // the outward-rounded box of its 8 corners, clipped to the scene bounds. The depth range is
-// searched front to back by bisection; a piece whose box gives 0 not in F is certified empty.
+// searched front to back by an adaptive march (beam.cpp, DepthSearch); a piece whose box gives
+// 0 not in F is certified empty.
 // - Miss: every piece was excluded. Certified: no ray of the beam meets the surface there.
 // - Full: a sign change between the slices at t_near and t_far, proved with intervals on slices
 //   inside the bounds, with f continuous (no partial domain) on the box of [t_near, t_far].
@@ -52,7 +53,7 @@ struct FirstPiece {
 void first_pieces(RenderContext& ctx, const PixelRect* rects, int n, Interval range, bool traced,
                   FirstPiece* out, MeanValueBudget* budgets = nullptr);
 
-/// Runs EvalRaySet on the beam `rect` over depths `range`. A piece stops being bisected when its
+/// Runs EvalRaySet on the beam `rect` over depths `range`. A piece stops being halved when its
 /// depth extent is at most settings.depth_tolerance times the beam's lateral width at its far
 /// end. Records every piece into `trace` when it is not null. Needs a RoundingScope.
 ///
