@@ -170,19 +170,15 @@ double lane_by_lane_share(const Tape& tape) {
     const Op op = ins[static_cast<std::size_t>(i)].op;
     if (op == Op::kPairedCos) continue;
     ++ops;
-    switch (op) {  // the operations with a vector rule in run_impl
+    switch (op) {  // the operations with a vector rule in both batched evaluators
       case Op::kAdd:
       case Op::kSub:
       case Op::kMul:
       case Op::kScale:
       case Op::kDivConst:
-      case Op::kDiv:
       case Op::kNeg:
       case Op::kSquare:
       case Op::kPowInt:
-      case Op::kAbs:
-      case Op::kMin:
-      case Op::kMax:
         break;
       default:
         ++slow;

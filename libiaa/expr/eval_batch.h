@@ -97,11 +97,12 @@ class BatchIntervalEvalK : public detail::BatchIsa {
 /// The lane count that measured best (docs/eval.md, "The batched interval evaluator").
 using BatchIntervalEval = BatchIntervalEvalK<8>;
 
-/// The share of the tape's operations (a sincos's paired cos not counted) that the batched
-/// evaluators run lane by lane with the scalar rule, having no vector rule: sqrt, exp, log, the
-/// trigonometric functions, the real power. Where these are much of a tape, a pass over K boxes
-/// costs about K one-box evaluations, and batching gains nothing (the render's gyroid: 1.17x the
-/// CPU time with its sibling beams batched, docs/render.md).
+/// The share of the tape's operations (a sincos's paired cos not counted) that a batched
+/// evaluator runs lane by lane with the scalar rule, having no vector rule in it: sqrt, exp, log,
+/// the trigonometric functions, the real power (both), division, abs, min and max (the interval +
+/// gradient batch, eval_batch_grad.h). Where these are much of a tape, a pass over K boxes costs
+/// about K one-box evaluations, and batching gains nothing (the render's gyroid: 1.17x the CPU
+/// time with its sibling beams batched, docs/render.md).
 double lane_by_lane_share(const Tape& tape);
 
 extern template class BatchIntervalEvalK<2>;

@@ -213,7 +213,7 @@ class DepthSearch {
     l.w = std::max(abs_floor(), tol_factor() * l.lateral * l.a);
     l.out = out;
     l.pieces = pieces;
-    l.active = l.a < range_.hi();
+    l.active = l.a <= range_.hi();  // a range of one depth is one piece, as wide as 0
     *out = FirstPiece{};
   }
 
@@ -232,6 +232,7 @@ class DepthSearch {
             clip_box(segment_box(ctx_.setup.frame.eye, l.dirs, Interval(l.a, l.b)), ctx_.bounds());
         if (l.box.is_empty()) {
           record(l, Interval::empty(), false, false, false);
+          l.natural_kept = false;
           exclude(l);
           continue;
         }

@@ -134,7 +134,8 @@ double full_root(RenderContext& ctx, const Vec3& d, const BeamSearch& s, double 
   if (!(ga > 0) || !(gb < 0)) return 0.5 * (s.t_near + s.t_far);  // no usable point signs
   if (s.t_far - a > kRootSearchFrom * first) {
     const IBox dir(Interval(d.x), Interval(d.y), Interval(d.z));
-    const RayHit h = search_ray(ctx, eye, dir, Interval(a, s.t_far), tol,
+    // From t_near: no ray of the part meets the surface before it (a may be t_s).
+    const RayHit h = search_ray(ctx, eye, dir, Interval(s.t_near, s.t_far), tol,
                                 ctx.setup.frame.scale * s.t_far * 4, false);
     if (h.hit) return h.t.mid();
   }

@@ -7,12 +7,15 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
+#include <initializer_list>
 #include <random>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "expr/eval_interval.h"
 #include "expr/eval_point_grad.h"
 #include "render/ray_search.h"
 #include "render/render_test_util.h"
@@ -156,68 +159,126 @@ TEST(EvalRaySet, SilhouetteBeamsKeepTheirCertificates) {
   RecordProperty("misses", misses);
 }
 
+/// A scene with partial domains (sqrt of a negative part of the box, a pole of the division
+/// inside the bounds) that the batched evaluators serve (no min/max, few lane-by-lane operations).
+Scene partial_domain_scene() {
+  return test::parse(
+      "[surface]\nexpression = \"sqrt(x + 0.3) + y^2 + z^2 - 0.6 + 0.01 / (x - 0.1)\"\n"
+      "min = [-1, -1, -1]\nmax = [1, 1, 1]\n[camera]\neye = [0.5, 0.4, 3]\nlook_at = [0, 0, 0]\n"
+      "up = [0, 1, 0]\nfov = 40\n[image]\nwidth = 64\nheight = 64\n");
+}
+
+/// The scenes of the depth-search tests: bundled ones at 64x64 and the partial-domain one.
+std::vector<std::pair<std::string, Scene>> search_scenes(std::initializer_list<const char*> names) {
+  std::vector<std::pair<std::string, Scene>> out;
+  for (const char* n : names) out.emplace_back(n, test::bundled(n, 64));
+  out.emplace_back("partial-domain", partial_domain_scene());
+  return out;
+}
+
+/// A beam's depth search (`width` pixels wide), checked from its trace: the pieces it excluded
+/// tile `range` from its front without a gap up to t_near (to its end for a Miss); each piece's
+/// natural enclosure is evaluated again with the whole tape (the same interval and partial-domain
+/// flag), and where it excluded the piece, 0 is outside it; the piece found is no wider than the
+/// depth tolerance. Counts the misses and hits.
+void check_search(const std::vector<DepthPieceTrace>& trace, const Interval& range, bool found,
+                  double t_near, double width, const RenderSetup& setup, IntervalEval& ie,
+                  const std::string& where, int* misses, int* hits) {
+  // One verdict per piece: a mean-value entry follows its piece's natural one and decides.
+  std::vector<DepthPieceTrace> pieces;
+  for (const DepthPieceTrace& p : trace) {
+    if (p.mean_value) {
+      ASSERT_FALSE(pieces.empty()) << where;
+      ASSERT_EQ(pieces.back().t.lo(), p.t.lo()) << where;
+      ASSERT_EQ(pieces.back().t.hi(), p.t.hi()) << where;
+      EXPECT_EQ(p.kept, p.f.contains_zero()) << where;
+      pieces.back().kept = p.kept;
+      continue;
+    }
+    if (!p.box.is_empty()) {
+      const Interval f = ie.eval(p.box);
+      EXPECT_EQ(f.lo(), p.f.lo()) << where << " t " << p.t.lo();
+      EXPECT_EQ(f.hi(), p.f.hi()) << where << " t " << p.t.lo();
+      EXPECT_EQ(ie.partial_domain(), p.partial) << where << " t " << p.t.lo();
+      if (!p.kept) {
+        EXPECT_TRUE(f.is_empty() || !f.contains_zero()) << where << ": excluded with 0 in F";
+      }
+    }
+    pieces.push_back(p);
+  }
+  ASSERT_FALSE(pieces.empty()) << where;
+  double front = range.lo();
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const DepthPieceTrace& p = pieces[k];
+    EXPECT_EQ(p.t.lo(), front) << where << ": piece " << k << " leaves a gap";
+    EXPECT_LE(p.t.hi(), range.hi()) << where;
+    if (!p.kept) front = p.t.hi();
+  }
+  if (!found) {
+    ++*misses;
+    EXPECT_EQ(front, range.hi()) << where << ": a Miss leaves depths unexcluded";
+    EXPECT_FALSE(pieces.back().kept) << where;
+    return;
+  }
+  ++*hits;
+  const DepthPieceTrace& last = pieces.back();
+  EXPECT_TRUE(last.kept) << where;
+  EXPECT_EQ(last.t.lo(), t_near) << where;
+  const double tol =
+      std::max(1e-12 * std::max(1.0, range.hi()),
+               setup.settings.depth_tolerance * width * setup.frame.scale * last.t.hi());
+  EXPECT_LE(last.t.width(), tol) << where << ": the kept piece is too wide";
+}
+
 // The depth search's own guarantee, read from its trace: the pieces it excluded (0 not in F, by
-// the natural enclosure or the mean-value form, or outside the bounds) tile the range from its
-// front without a gap up to t_near (the whole range for a Miss), and the piece it returns is no
-// wider than the depth tolerance at its far end. The search is an adaptive march (a kept piece
-// halved, wider pieces after excluded ones), so this holds by construction of its bookkeeping;
-// beams of every size in scenes with thin features, silhouettes and partial domains.
+// the natural enclosure, evaluated here again, or the mean-value form, or outside the bounds)
+// tile the range from its front without a gap up to t_near (the whole range for a Miss), and the
+// piece it returns is no wider than the depth tolerance at its far end. The search is an adaptive
+// march (a kept piece halved, wider pieces after excluded ones). Beams of every size searched
+// alone, and the four quadrants of each searched side by side sharing one budget (as a pixel's
+// sub-beams are), in scenes with thin features, silhouettes and partial domains; ranges from the
+// front of the depths or from partway in (a parent's t_near).
 TEST(EvalRaySet, ExcludedPiecesTileTheDepthsInFrontOfTheHit) {
   std::mt19937 rng(777);
   int misses = 0, hits = 0;
-  for (const char* name : {"teardrop", "chubs", "twist", "klein_bottle", "blobby", "thin_torus"}) {
-    const Scene s = test::bundled(name, 64);
+  for (const auto& [name, s] :
+       search_scenes({"teardrop", "chubs", "twist", "klein_bottle", "blobby", "thin_torus"})) {
     const RenderSetup setup(s, RenderSettings{});
     RoundingScope scope;
     RenderContext ctx(setup);
+    IntervalEval ie(*s.tape);
     std::uniform_real_distribution<double> U(0.0, 1.0);
-    for (int trial = 0; trial < 80; ++trial) {
+    for (int trial = 0; trial < 60; ++trial) {
       const double w = std::ldexp(1.0, static_cast<int>(U(rng) * 8) - 4);  // 1/16 to 8 pixels
-      const double u0 = U(rng) * (64 - w), v0 = U(rng) * (64 - w);
+      const double u0 = U(rng) * (64 - w), v0 = U(rng) * (64 - w), h = 0.5 * w;
       const PixelRect rect{u0, v0, u0 + w, v0 + w};
-      const Interval range = setup.depth;
-      BeamTrace tr;
-      const BeamSearch b = eval_ray_set(ctx, rect, range, nullptr, &tr);
+      const Interval range(setup.depth.lo() + U(rng) * 0.3 * setup.depth.width(), setup.depth.hi());
       std::ostringstream where;
       where << name << " beam [" << u0 << ", " << v0 << "; w " << w << "]";
-      // One verdict per piece: a mean-value entry follows its piece's natural one and decides.
-      std::vector<DepthPieceTrace> pieces;
-      for (const DepthPieceTrace& p : tr.pieces) {
-        if (p.mean_value) {
-          ASSERT_FALSE(pieces.empty()) << where.str();
-          ASSERT_EQ(pieces.back().t.lo(), p.t.lo()) << where.str();
-          ASSERT_EQ(pieces.back().t.hi(), p.t.hi()) << where.str();
-          pieces.back().kept = p.kept;
-        } else {
-          pieces.push_back(p);
-        }
+      BeamTrace tr;
+      const BeamSearch b = eval_ray_set(ctx, rect, range, nullptr, &tr);
+      check_search(tr.pieces, range, b.result != BeamResult::kMiss, b.t_near, w, setup, ie,
+                   where.str(), &misses, &hits);
+      const PixelRect kids[4] = {{u0, v0, u0 + h, v0 + h},
+                                 {u0 + h, v0, u0 + w, v0 + h},
+                                 {u0, v0 + h, u0 + h, v0 + w},
+                                 {u0 + h, v0 + h, u0 + w, v0 + w}};
+      FirstPiece together[4];
+      first_pieces(ctx, kids, 4, range, true, together);
+      for (int k = 0; k < 4; ++k) {
+        check_search(together[k].pieces, range, together[k].found, together[k].a, h, setup, ie,
+                     where.str() + " quadrant " + std::to_string(k), &misses, &hits);
       }
-      ASSERT_FALSE(pieces.empty()) << where.str();
-      double front = range.lo();
-      for (std::size_t k = 0; k < pieces.size(); ++k) {
-        const DepthPieceTrace& p = pieces[k];
-        EXPECT_EQ(p.t.lo(), front) << where.str() << ": piece " << k << " leaves a gap";
-        EXPECT_LE(p.t.hi(), range.hi()) << where.str();
-        if (!p.kept) front = p.t.hi();
-      }
-      if (b.result == BeamResult::kMiss) {
-        ++misses;
-        EXPECT_EQ(front, range.hi()) << where.str() << ": a Miss leaves depths unexcluded";
-        EXPECT_FALSE(pieces.back().kept) << where.str();
-      } else {
-        ++hits;
-        const DepthPieceTrace& last = pieces.back();
-        EXPECT_TRUE(last.kept) << where.str();
-        EXPECT_EQ(last.t.lo(), b.t_near) << where.str();
-        const double lateral = w * setup.frame.scale;
-        const double tol = std::max(1e-12 * std::max(1.0, range.hi()),
-                                    RenderSettings{}.depth_tolerance * lateral * last.t.hi());
-        EXPECT_LE(last.t.width(), tol) << where.str() << ": the kept piece is too wide";
-      }
+      if (::testing::Test::HasFatalFailure()) return;
     }
   }
-  EXPECT_GT(misses, 50);
-  EXPECT_GT(hits, 50);
+  EXPECT_GT(misses, 200);
+  EXPECT_GT(hits, 200);
+}
+
+/// Bit equality of two doubles (a -0 is not a +0).
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
 }
 
 // Sibling beams searched side by side (first_pieces: four boxes per pass of the batched
@@ -225,12 +286,13 @@ TEST(EvalRaySet, ExcludedPiecesTileTheDepthsInFrontOfTheHit) {
 // the same enclosures (bit for bit), the same first piece and the same evaluation count as
 // eval_ray_set's own search from that budget. Quadrants of random beams of every size, with
 // every number of siblings 1..4, in scenes the batch serves (no min/max, few lane-by-lane
-// operations: polynomials, and blobby's exp) and with SSE2 and AVX2 lanes alike.
+// operations: polynomials, blobby's exp, a scene with partial domains), from budgets of every
+// kind, with SSE2 and AVX2 lanes alike.
 TEST(EvalRaySet, SiblingsSearchedTogetherFindWhatEachFindsAlone) {
   std::mt19937 rng(4242);
-  int compared = 0, found = 0;
-  for (const char* name : {"chubs", "teardrop", "barth_sextic", "klein_bottle", "blobby"}) {
-    const Scene s = test::bundled(name, 64);
+  int compared = 0, found = 0, partial_pieces = 0;
+  for (const auto& [name, s] :
+       search_scenes({"chubs", "teardrop", "barth_sextic", "klein_bottle", "blobby"})) {
     const RenderSetup setup(s, RenderSettings{});
     RoundingScope scope;
     RenderContext ctx(setup);
@@ -246,10 +308,16 @@ TEST(EvalRaySet, SiblingsSearchedTogetherFindWhatEachFindsAlone) {
       // A range from the front of the depths, or from partway in (a parent's t_near).
       const Interval range(setup.depth.lo() + U(rng) * 0.5 * setup.depth.width(), setup.depth.hi());
       const int n = 1 + trial % 4;
+      // Budgets that try the mean-value form and evaluate the natural enclosure first, that
+      // take the gradient first, and that no longer try the mean-value form.
       MeanValueBudget start;
-      for (int k = 0; k < trial % 20; ++k)
-        start.record_natural(MeanValueBudget::kPiece, k % 3 == 0);
-      for (int k = 0; k < trial % 12; ++k) start.record(k % 2 == 0);
+      const int kind = (trial / 4) % 3;
+      for (int k = 0; k < 12; ++k) {
+        start.record_natural(MeanValueBudget::kPiece, kind == 0 && k % 2 == 0);
+        start.record(kind != 2 && k % 3 == 0);
+      }
+      EXPECT_EQ(start.gradient_first(MeanValueBudget::kPiece), kind == 1);
+      EXPECT_EQ(start.allowed(), kind != 2);
       ctx.batch->use_baseline(trial % 2 == 1);
       ctx.batch_grad->use_baseline(trial % 2 == 1);
       MeanValueBudget budgets[4] = {start, start, start, start};
@@ -273,23 +341,36 @@ TEST(EvalRaySet, SiblingsSearchedTogetherFindWhatEachFindsAlone) {
         ASSERT_EQ(t.pieces.size(), alone.pieces.size()) << where.str();
         for (std::size_t p = 0; p < t.pieces.size(); ++p) {
           const DepthPieceTrace &x = t.pieces[p], &y = alone.pieces[p];
-          EXPECT_EQ(x.t.lo(), y.t.lo()) << where.str() << " piece " << p;
-          EXPECT_EQ(x.t.hi(), y.t.hi()) << where.str() << " piece " << p;
-          EXPECT_EQ(x.f.lo(), y.f.lo()) << where.str() << " piece " << p;
-          EXPECT_EQ(x.f.hi(), y.f.hi()) << where.str() << " piece " << p;
+          EXPECT_TRUE(same_bits(x.t.lo(), y.t.lo()) && same_bits(x.t.hi(), y.t.hi()))
+              << where.str() << " piece " << p;
+          EXPECT_TRUE(same_bits(x.f.lo(), y.f.lo()) && same_bits(x.f.hi(), y.f.hi()))
+              << where.str() << " piece " << p << ": " << x.f.lo() << ", " << x.f.hi()
+              << " against " << y.f.lo() << ", " << y.f.hi();
+          for (int i = 0; i < 3; ++i) {
+            EXPECT_TRUE(same_bits(x.box[i].lo(), y.box[i].lo()) &&
+                        same_bits(x.box[i].hi(), y.box[i].hi()))
+                << where.str() << " piece " << p;
+          }
           EXPECT_EQ(x.kept, y.kept) << where.str() << " piece " << p;
+          EXPECT_EQ(x.partial, y.partial) << where.str() << " piece " << p;
           EXPECT_EQ(x.mean_value, y.mean_value) << where.str() << " piece " << p;
+          partial_pieces += x.partial;
         }
         // The budget after the search is the one the beam's own search leaves (slices aside:
         // eval_ray_set was told not to try full coverage).
         EXPECT_EQ(budgets[k].tries, ctx.mv.tries) << where.str();
         EXPECT_EQ(budgets[k].hits, ctx.mv.hits) << where.str();
+        for (int i = 0; i < 2; ++i) {
+          EXPECT_EQ(budgets[k].seen[i], ctx.mv.seen[i]) << where.str();
+          EXPECT_EQ(budgets[k].natural[i], ctx.mv.natural[i]) << where.str();
+        }
         ++compared;
       }
     }
   }
-  EXPECT_GT(compared, 400);
+  EXPECT_GT(compared, 500);
   EXPECT_GT(found, 100);
+  EXPECT_GT(partial_pieces, 10);  // the partial-domain scene's flags were compared too
 }
 
 // The estimator encloses n . d at the first hits: for random Full beams (before and after
