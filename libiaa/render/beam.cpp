@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "core/error.h"
 #include "scene/camera.h"
@@ -247,7 +248,7 @@ class DepthSearch {
         l.evaluated = true;
         (l.grad ? gi[ng++] : vi[nv++]) = i;
       }
-      values(vi, nv, &Lane::box, &Lane::f, &Lane::partial);
+      naturals(vi, nv);
       grads(gi, ng, &Lane::partial);
       // The natural enclosures' verdicts; the mean-value form where it may exclude what they kept
       // (a narrow piece a few tolerances wide near, but off, the surface).
@@ -278,10 +279,9 @@ class DepthSearch {
         Lane& l = lanes_[i];
         if (!l.need_mv || l.gpartial) continue;
         l.mvf = PieceMeanValue(ctx_, l.box, l.dirs, Interval(l.a, l.b));
-        l.point = l.mvf.c;
         pi[np++] = i;
       }
-      values(pi, np, &Lane::point, &Lane::fc, nullptr);
+      points(pi, np);
       for (int i = 0; i < n_; ++i) {
         Lane& l = lanes_[i];
         if (!l.need_mv) continue;
@@ -316,7 +316,6 @@ class DepthSearch {
     Interval f, fc;
     IGrad g;
     PieceMeanValue mvf;
-    IBox point;
   };
 
   double abs_floor() const { return 1e-12 * std::max(1.0, range_.hi()); }
@@ -344,50 +343,57 @@ class DepthSearch {
     l.run = 0;
   }
 
-  /// F over lanes[which[j]].*box into .*f (and the partial-domain flags), counted per lane: in
-  /// one pass of the batched evaluator for two or more.
-  void values(const int* which, int k, IBox Lane::*box, Interval Lane::*f, bool Lane::*partial) {
+  /// Evaluates the boxes `box_of(lane)` of the lanes which[0..k), each counted as one evaluation
+  /// of its beam: in one pass of `batch` for two or more (where the context has it, the same
+  /// intervals as one at a time), else with `one` (an evaluation through ctx_.se). Hands each
+  /// lane its result and partial-domain flag: `done(lane, result, partial)`.
+  template <class Batch, class BoxOf, class One, class Done>
+  void evaluate(const int* which, int k, std::optional<Batch>& batch, BoxOf box_of, One one,
+                Done done) {
     if (k == 0) return;
     ctx_.evals += static_cast<std::uint64_t>(k);
     for (int j = 0; j < k; ++j) ++lanes_[which[j]].out->evals;
-    if (k >= 2 && ctx_.batch) {
+    if (k >= 2 && batch) {
+      using Result = decltype(one(std::declval<const IBox&>()));
       IBox boxes[kMost];
-      Interval r[kMost];
-      for (int j = 0; j < k; ++j) boxes[j] = lanes_[which[j]].*box;
-      ctx_.batch->eval(boxes, k, r);
-      for (int j = 0; j < k; ++j) {
-        lanes_[which[j]].*f = r[j];
-        if (partial) lanes_[which[j]].*partial = ctx_.batch->partial_domain(j);
-      }
+      Result r[kMost];
+      for (int j = 0; j < k; ++j) boxes[j] = box_of(lanes_[which[j]]);
+      batch->eval(boxes, k, r);
+      for (int j = 0; j < k; ++j) done(lanes_[which[j]], r[j], batch->partial_domain(j));
       return;
     }
     for (int j = 0; j < k; ++j) {
       Lane& l = lanes_[which[j]];
-      l.*f = ctx_.se.eval(l.*box);
-      if (partial) l.*partial = ctx_.se.partial_domain();
+      const auto r = one(box_of(l));
+      done(l, r, ctx_.se.partial_domain());
     }
   }
-  /// F and its gradient over lanes[which[j]].box into .g (and the flags), the same way.
+  /// F over the lanes' pieces: their natural enclosures (into f, the flags into partial).
+  void naturals(const int* which, int k) {
+    evaluate(
+        which, k, ctx_.batch, [](const Lane& l) -> const IBox& { return l.box; },
+        [&](const IBox& b) { return ctx_.se.eval(b); },
+        [](Lane& l, const Interval& f, bool partial) {
+          l.f = f;
+          l.partial = partial;
+        });
+  }
+  /// F over the points of the lanes' mean-value forms (into fc).
+  void points(const int* which, int k) {
+    evaluate(
+        which, k, ctx_.batch, [](const Lane& l) -> const IBox& { return l.mvf.c; },
+        [&](const IBox& b) { return ctx_.se.eval(b); },
+        [](Lane& l, const Interval& f, bool) { l.fc = f; });
+  }
+  /// F and its gradient over the lanes' pieces into g, the partial-domain flag into .*partial.
   void grads(const int* which, int k, bool Lane::*partial) {
-    if (k == 0) return;
-    ctx_.evals += static_cast<std::uint64_t>(k);
-    for (int j = 0; j < k; ++j) ++lanes_[which[j]].out->evals;
-    if (k >= 2 && ctx_.batch_grad) {
-      IBox boxes[kMost];
-      IGrad r[kMost];
-      for (int j = 0; j < k; ++j) boxes[j] = lanes_[which[j]].box;
-      ctx_.batch_grad->eval(boxes, k, r);
-      for (int j = 0; j < k; ++j) {
-        lanes_[which[j]].g = r[j];
-        lanes_[which[j]].*partial = ctx_.batch_grad->partial_domain(j);
-      }
-      return;
-    }
-    for (int j = 0; j < k; ++j) {
-      Lane& l = lanes_[which[j]];
-      l.g = ctx_.se.eval_grad(l.box);
-      l.*partial = ctx_.se.partial_domain();
-    }
+    evaluate(
+        which, k, ctx_.batch_grad, [](const Lane& l) -> const IBox& { return l.box; },
+        [&](const IBox& b) { return ctx_.se.eval_grad(b); },
+        [partial](Lane& l, const IGrad& g, bool p) {
+          l.g = g;
+          l.*partial = p;
+        });
   }
 
   RenderContext& ctx_;
