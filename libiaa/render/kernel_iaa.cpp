@@ -439,25 +439,34 @@ class IaaPixel {
     coverage_hits_ = h.hit ? 1 : 0;
     const double end = h.hit ? std::max(sr.hi(), h.t.hi() + (sr.hi() - sr.lo())) : sr.hi();
     const Interval march(s.t_near, std::min(range.hi(), end));
+    constexpr int kRays = kCoverageRays * kCoverageRays;
+    Missed ray[kRays];
+    Vec3 dirs[kRays];
     for (int j = 0; j < kCoverageRays; ++j) {
       for (int i = 0; i < kCoverageRays; ++i) {
-        const double u = rect.u0 + (i + 0.5) / kCoverageRays * rect.width();
-        const double v = rect.v0 + (j + 0.5) / kCoverageRays * rect.height();
-        const Vec3 d = su_.frame.dir(u, v);
-        Crossing x;
-        if (!coverage_ray(d, march, foot, &x)) {
-          missed_[n_missed_++] = {u, v, d};
-          continue;
-        }
-        ++coverage_hits_;
-        if (h.hit) continue;
-        // The first coverage ray that finds the surface gives the shading point.
-        h.hit = true;
-        h.t = Interval(crossing_depth(d, x, shade_tol));
-        ph->u = u;
-        ph->v = v;
-        ph->d = d;
+        Missed& r = ray[j * kCoverageRays + i];
+        r.u = rect.u0 + (i + 0.5) / kCoverageRays * rect.width();
+        r.v = rect.v0 + (j + 0.5) / kCoverageRays * rect.height();
+        r.d = dirs[j * kCoverageRays + i] = su_.frame.dir(r.u, r.v);
       }
+    }
+    Crossing x[kRays];
+    bool found[kRays];
+    coverage_rays(dirs, kRays, march, foot, x, found);
+    for (int k = 0; k < kRays; ++k) {
+      const Missed& r = ray[k];
+      if (!found[k]) {
+        missed_[n_missed_++] = r;
+        continue;
+      }
+      ++coverage_hits_;
+      if (h.hit) continue;
+      // The first coverage ray that finds the surface gives the shading point.
+      h.hit = true;
+      h.t = Interval(crossing_depth(r.d, x[k], shade_tol));
+      ph->u = r.u;
+      ph->v = r.v;
+      ph->d = r.d;
     }
     *weight = std::max(kPartialMinWeight, double(coverage_hits_) / coverage_rays_);
     // A coverage ray that passed beside the surface the part's rays found may meet another
@@ -478,11 +487,15 @@ class IaaPixel {
   /// After the part's own shading point, which comes first in the cache.
   void shade_behind(const PartHit& ph) {
     const double radius = shadow_cache_.radius;
+    Vec3 dirs[kCoverageRays * kCoverageRays];
+    Crossing xs[kCoverageRays * kCoverageRays];
+    bool found[kCoverageRays * kCoverageRays];
+    for (int k = 0; k < n_missed_; ++k) dirs[k] = missed_[k].d;
+    coverage_rays(dirs, n_missed_, behind_, ph.foot, xs, found);
     for (int k = 0; k < n_missed_; ++k) {
       const Missed& m = missed_[k];
-      Crossing x;
-      if (!coverage_ray(m.d, behind_, ph.foot, &x)) continue;
-      const Interval tb(crossing_depth(m.d, x, ph.tol));
+      if (!found[k]) continue;
+      const Interval tb(crossing_depth(m.d, xs[k], ph.tol));
       const Vec3 p = su_.frame.eye + tb.mid() * m.d;
       const Vec3 g = hit_gradient(ctx_, p, m.u, m.v, tb);
       shadow_cache_.radius = su_.frame.scale * tb.mid();
@@ -497,47 +510,83 @@ class IaaPixel {
     double a = 0, b = 0, fa = 0, fb = 0;
   };
 
-  /// True when the point ray `d` of a Partial part meets the surface in `range` (the part's
-  /// depths from t_near), inside the bounds, as far as a march of point values in steps of
-  /// `step` can tell (one footprint of the part; at most kCoverageMarch steps, wider when the
-  /// range is longer); `x` gets the first bracket. No ray of the part meets the surface before
-  /// t_near, so they all start on the same side. A crossing pair thinner than a step can hide,
-  /// which only lowers the part's weight, never below the minimum.
-  bool coverage_ray(const Vec3& d, Interval range, double step, Crossing* x) {
+  /// For each point ray d[k] (k < n <= kCoverageRays^2) of a Partial part: found[k] when it meets
+  /// the surface in `range` (the part's depths from t_near), inside the bounds, as far as a march
+  /// of point values in steps of `step` can tell (one footprint of the part; at most
+  /// kCoverageMarch steps, wider when the range is longer); x[k] gets the first bracket. No ray of
+  /// the part meets the surface before t_near, so they all start on the same side. A crossing pair
+  /// thinner than a step can hide, which only lowers the part's weight, never below the minimum.
+  /// The rays march side by side, their points evaluated in one pass of the batched point
+  /// evaluator where the context has it (the values one ray at a time gives).
+  void coverage_rays(const Vec3* d, int n, Interval range, double step, Crossing* x, bool* found) {
+    constexpr int kMost = kCoverageRays * kCoverageRays;
+    struct March {
+      double a = 0, b = 0, ta = 0, fa = 0;
+      int steps = 0, k = 0;  // steps of the march; the next one (0: the start, at a)
+      bool active = false;
+    };
     const Vec3& eye = su_.frame.eye;
     const Box3& bx = ctx_.bounds();
-    double a = range.lo(), b = range.hi();
-    for (int i = 0; i < 3; ++i) {  // the ray's depths inside the bounds
-      if (d[i] == 0) {
-        if (eye[i] < bx.lo[i] || eye[i] > bx.hi[i]) return false;
-        continue;
+    March m[kMost];
+    for (int r = 0; r < n; ++r) {
+      found[r] = false;
+      double a = range.lo(), b = range.hi();
+      bool inside = true;
+      for (int i = 0; i < 3 && inside; ++i) {  // the ray's depths inside the bounds
+        if (d[r][i] == 0) {
+          inside = !(eye[i] < bx.lo[i] || eye[i] > bx.hi[i]);
+          continue;
+        }
+        double t0 = (bx.lo[i] - eye[i]) / d[r][i], t1 = (bx.hi[i] - eye[i]) / d[r][i];
+        if (t0 > t1) std::swap(t0, t1);
+        a = std::max(a, t0);
+        b = std::min(b, t1);
       }
-      double t0 = (bx.lo[i] - eye[i]) / d[i], t1 = (bx.hi[i] - eye[i]) / d[i];
-      if (t0 > t1) std::swap(t0, t1);
-      a = std::max(a, t0);
-      b = std::min(b, t1);
+      if (!inside || !(a < b) || !(step > 0)) continue;
+      // Steps of `step`, or wider so that there are at most kCoverageMarch of them.
+      m[r].steps = static_cast<int>(
+          std::clamp(std::ceil((b - a) / step), 1.0, static_cast<double>(kCoverageMarch)));
+      m[r].a = a;
+      m[r].b = b;
+      m[r].active = true;
     }
-    if (!(a < b) || !(step > 0)) return false;
-    auto f = [&](double t) { return ctx_.se.eval_point(eye + t * d); };
-    // Steps of `step`, or wider so that there are at most kCoverageMarch of them.
-    const int n = static_cast<int>(
-        std::clamp(std::ceil((b - a) / step), 1.0, static_cast<double>(kCoverageMarch)));
-    double ta = a, fa = f(a);
-    if (fa == 0) {
-      *x = {a, a, 0, 0};
-      return true;
-    }
-    for (int k = 1; k <= n; ++k) {
-      const double tb = k == n ? b : a + (b - a) * k / n;
-      const double fb = f(tb);
-      if (std::isfinite(fa) && std::isfinite(fb) && (fb == 0 || (fa < 0) != (fb < 0))) {
-        *x = {ta, tb, fa, fb};
-        return true;
+    for (;;) {
+      int lane[kMost], nl = 0;
+      Vec3 p[kMost];
+      double t[kMost], f[kMost];
+      for (int r = 0; r < n; ++r) {
+        if (!m[r].active) continue;
+        const March& q = m[r];
+        t[nl] = q.k == 0 ? q.a : (q.k == q.steps ? q.b : q.a + (q.b - q.a) * q.k / q.steps);
+        p[nl] = eye + t[nl] * d[r];
+        lane[nl++] = r;
       }
-      ta = tb;
-      fa = fb;
+      if (nl == 0) return;
+      if (nl >= 2 && ctx_.batch_point) {
+        ctx_.batch_point->eval(p, nl, f);
+      } else {
+        for (int l = 0; l < nl; ++l) f[l] = ctx_.se.eval_point(p[l]);
+      }
+      for (int l = 0; l < nl; ++l) {
+        March& q = m[lane[l]];
+        const double tb = t[l], fb = f[l];
+        if (q.k == 0) {
+          if (fb == 0) {
+            x[lane[l]] = {tb, tb, 0, 0};
+            found[lane[l]] = true;
+            q.active = false;
+          }
+        } else if (std::isfinite(q.fa) && std::isfinite(fb) &&
+                   (fb == 0 || (q.fa < 0) != (fb < 0))) {
+          x[lane[l]] = {q.ta, tb, q.fa, fb};
+          found[lane[l]] = true;
+          q.active = false;
+        }
+        q.ta = tb;
+        q.fa = fb;
+        if (++q.k > q.steps) q.active = false;
+      }
     }
-    return false;
   }
 
   /// The depth of the crossing `x` of the point ray `d`, to within `tol` (first_crossing).

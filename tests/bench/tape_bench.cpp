@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "expr/eval_batch.h"
 #include "expr/eval_batch_grad.h"
+#include "expr/eval_batch_point.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -108,6 +109,28 @@ void BM_BatchIntervalGradEval(benchmark::State& state) {
 BENCHMARK(BM_BatchIntervalGradEval<4>);
 BENCHMARK(BM_BatchIntervalGradEval<8>);
 BENCHMARK(BM_BatchIntervalGradEval<16>);
+
+// The batched point evaluator on the same points, K at a time (ns per operation per point).
+template <int K>
+void BM_BatchPointEval(benchmark::State& state) {
+  const Tape& t = *chubs().tape;
+  BatchPointEvalK<K> e(t);
+  const auto pts = points(chubs().bounds, 1024);
+  RoundingScope scope;
+  double out[K];
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < pts.size(); i += K) {
+      e.eval(pts.data() + i, K, out);
+      benchmark::DoNotOptimize(out);
+    }
+  }
+  state.counters["ns/op"] =
+      benchmark::Counter(static_cast<double>(state.iterations()) * 1024 * t.op_count(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_BatchPointEval<4>);
+BENCHMARK(BM_BatchPointEval<8>);
+BENCHMARK(BM_BatchPointEval<16>);
 
 // The cost of the per-operation rounding-mode switch that RoundingScope avoids.
 void BM_IntervalMulWithModeSwitch(benchmark::State& state) {

@@ -58,5 +58,6 @@ check bench-tape-target 0 "target: interval within 4x" -- "$iaa" bench tape --po
   --json "$tmp/tape.json"
 check bench-tape-json 0 '"within_target"' -- cat "$tmp/tape.json"
 check bench-tape-batch-json 0 '"batch_within_target"' -- cat "$tmp/tape.json"
+check bench-tape-point-batch-json 0 '"point_batch_over_point"' -- cat "$tmp/tape.json"
 check no-command nonzero "subcommand is required" -- "$iaa"
 exit $fail

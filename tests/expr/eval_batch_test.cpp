@@ -3,19 +3,26 @@
 // expressions over every operation, endpoint-heavy boxes (unbounded, empty, degenerate, touching
 // or straddling 0), every batch size from 1 to K, with the baseline (SSE2) code and, where the
 // processor has it, the AVX2 code. BatchIntervalGradEvalK likewise against IntervalGradEval: the
-// value and the three partials, with every set of wanted partials.
+// value and the three partials, with every set of wanted partials. BatchPointEvalK against
+// PointEval: every lane's value the same double (NaN where PointEval gives NaN).
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "expr/eval_batch.h"
 #include "expr/eval_batch_grad.h"
+#include "expr/eval_batch_point.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
+#include "expr/eval_point.h"
 #include "expr/random_expr.h"
 
 namespace iaa {
@@ -324,6 +331,89 @@ TEST(BatchIntervalGradEval, SignedZerosMatchTheScalarEvaluator) {
 
 TEST(BatchIntervalGradEval, OpensItsOwnRoundingScope) {
   check_own_rounding_scope<BatchIntervalGradEval, IntervalGradEval>();
+}
+
+// --- The point evaluator ---
+
+/// A point coordinate that the point rules treat specially now and then: a signed zero, an
+/// infinity, a huge or tiny value, NaN; otherwise one taken from the generator's box.
+double odd_coordinate(RandomExpr& r, const Interval& side) {
+  switch (r.pick(16)) {
+    case 0:
+      return 0.0;
+    case 1:
+      return -0.0;
+    case 2:
+      return Interval::kInf;
+    case 3:
+      return -Interval::kInf;
+    case 4:
+      return 1e300;
+    case 5:
+      return -1e-310;
+    case 6:
+      return std::numeric_limits<double>::quiet_NaN();
+    case 7:
+      return std::round(r.uniform(-3, 3));
+    default:
+      return r.uniform(side.lo(), side.hi());
+  }
+}
+
+/// Every batch size 1..K, with both instruction sets, in both rounding modes the renderer uses
+/// (point values are computed under upward rounding inside a RoundingScope, and to nearest).
+template <int K>
+::testing::AssertionResult check_point_tape(const Tape& tape, RandomExpr& r, int rounds) {
+  BatchPointEvalK<K> be(tape);
+  PointEval pe(tape);
+  for (int mode = 0; mode < 2; ++mode) {
+    std::optional<RoundingScope> upward;
+    if (mode == 1) upward.emplace();
+    for (int baseline = 0; baseline < 2; ++baseline) {
+      be.use_baseline(baseline != 0);
+      for (int round = 0; round < rounds; ++round) {
+        for (int n = 1; n <= K; ++n) {
+          Vec3 p[K];
+          for (int j = 0; j < n; ++j) {
+            const IBox b = r.box();
+            p[j] = {odd_coordinate(r, b.x), odd_coordinate(r, b.y), odd_coordinate(r, b.z)};
+          }
+          double out[K];
+          be.eval(p, n, out);
+          for (int j = 0; j < n; ++j) {
+            const double want = pe.eval(p[j]);
+            if (bits(out[j]) == bits(want) || (out[j] != out[j] && want != want)) continue;
+            char msg[256];
+            std::snprintf(msg, sizeof msg,
+                          "lane %d of %d (K=%d, %s, %s): batch %a, scalar %a at (%a, %a, %a)", j, n,
+                          K, be.isa(), mode ? "upward" : "nearest", out[j], want, p[j].x, p[j].y,
+                          p[j].z);
+            return ::testing::AssertionFailure() << msg << "\n" << tape.to_text();
+          }
+        }
+      }
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// Each operation at endpoint-heavy points.
+TEST(BatchPointEval, EveryOperationMatchesTheScalarEvaluator) {
+  RandomExpr r(18);
+  check_every_operation([&](const Tape& tape) {
+    EXPECT_TRUE(check_point_tape<4>(tape, r, 40));
+    EXPECT_TRUE(check_point_tape<8>(tape, r, 10));
+  });
+}
+
+// Random expressions, every batch size, K = 4 and 8.
+TEST(BatchPointEval, RandomExpressionsMatchTheScalarEvaluator) {
+  check_random_expressions(1603u, 300, [](const Tape& tape, RandomExpr& r, int n) {
+    ASSERT_TRUE(check_point_tape<4>(tape, r, 2));
+    if (n % 4 == 0) {
+      ASSERT_TRUE(check_point_tape<8>(tape, r, 1));
+    }
+  });
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 #include "core/error.h"
 #include "expr/eval_batch.h"
 #include "expr/eval_batch_grad.h"
+#include "expr/eval_batch_point.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -117,7 +118,7 @@ std::vector<Scene> load_scenes(const Options& o) {
 /// Median seconds of one batch of evaluations, per evaluator.
 struct Times {
   double native = 0, point = 0, interval = 0, point_grad = 0, interval_grad = 0, batch = 0,
-         batch_grad = 0;
+         batch_grad = 0, batch_point = 0;
   const char* batch_isa = "";    ///< the batched evaluators' instruction set
   std::uint64_t peak_bytes = 0;  ///< the peak resident memory of all the evaluators' runs
   bool peak_exact = true;        ///< the peak was this surface's (PeakMemory::exact)
@@ -158,6 +159,24 @@ double measure_batch(const Tape& tape, const std::vector<Vec3>& pts, int runs, b
       const int m = std::min(K, n - i);
       be.eval(boxes.data() + i, m, out);
       for (int j = 0; j < m; ++j) acc += sink_of(out[j]);
+    }
+    g_sink = acc;
+  });
+}
+
+/// Median seconds of the batched point evaluator over `pts`, K at a time.
+template <int K>
+double measure_point_batch(const Tape& tape, const std::vector<Vec3>& pts, int runs, bool sse2) {
+  BatchPointEvalK<K> be(tape);
+  be.use_baseline(sse2);
+  const int n = static_cast<int>(pts.size());
+  return median_seconds(runs, [&] {
+    double acc = 0;
+    double out[K];
+    for (int i = 0; i < n; i += K) {
+      const int m = std::min(K, n - i);
+      be.eval(pts.data() + i, m, out);
+      for (int j = 0; j < m; ++j) acc += out[j];
     }
     g_sink = acc;
   });
@@ -209,23 +228,28 @@ Times measure(const Surface& s, const Tape& tape, const std::vector<Vec3>& pts, 
   });
   t.batch = measure_lanes<BatchIntervalEvalK, Interval>(tape, pts, runs, o, &t.batch_isa);
   t.batch_grad = measure_lanes<BatchIntervalGradEvalK, IGrad>(tape, pts, runs, o, &t.batch_isa);
+  t.batch_point = o.lanes == 4    ? measure_point_batch<4>(tape, pts, runs, o.sse2)
+                  : o.lanes == 16 ? measure_point_batch<16>(tape, pts, runs, o.sse2)
+                                  : measure_point_batch<8>(tape, pts, runs, o.sse2);
   t.peak_bytes = memory.peak_bytes();
   t.peak_exact = memory.exact();
   return t;
 }
 
 void print_header(int lanes) {
-  char target[16], btarget[16], batch[16], bgrad[16];
+  char target[16], btarget[16], batch[16], bgrad[16], bpoint[16];
   std::snprintf(target, sizeof target, "<= %gx", kIntervalOverPointTarget);
   std::snprintf(btarget, sizeof btarget, "<= %gx", kBatchOverPointTarget);
   std::snprintf(batch, sizeof batch, "batch %d", lanes);
   std::snprintf(bgrad, sizeof bgrad, "bgrad %d", lanes);
-  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s %9s  %-7s %9s %9s %9s %9s\n",
-              "surface", "ops", "native", "point", "interval", "pt+grad", "iv+grad", "iv/point",
-              "target", batch, "bt/point", "target", bgrad, "bg/ivgrad", "bg/point", "peak MiB");
-  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s %9s  %-7s %9s %9s %9s\n", "", "",
-              "ns/op", "ns/op", "ns/op", "ns/op", "ns/op", "ratio", target, "ns/op", "ratio",
-              btarget, "ns/op", "ratio", "ratio");
+  std::snprintf(bpoint, sizeof bpoint, "bpoint %d", lanes);
+  std::printf(
+      "%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s %9s  %-7s %9s %9s %9s %9s %9s %9s\n",
+      "surface", "ops", "native", "point", "interval", "pt+grad", "iv+grad", "iv/point", "target",
+      batch, "bt/point", "target", bgrad, "bg/ivgrad", "bg/point", bpoint, "bp/point", "peak MiB");
+  std::printf("%-13s %4s  %10s %10s %10s %10s %10s  %9s  %-7s %9s %9s  %-7s %9s %9s %9s %9s %9s\n",
+              "", "", "ns/op", "ns/op", "ns/op", "ns/op", "ns/op", "ratio", target, "ns/op",
+              "ratio", btarget, "ns/op", "ratio", "ratio", "ns/op", "ratio");
 }
 
 /// Prints the line of one surface and returns its JSON record; times become ns per operation.
@@ -237,13 +261,14 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
   const double bratio = t.batch / t.point;
   const bool bwithin = bratio <= kBatchOverPointTarget;
   const double bg_ratio = t.batch_grad / t.interval_grad, bg_point = t.batch_grad / t.point;
+  const double bp_ratio = t.batch_point / t.point;
   std::printf(
       "%-13s %4d  %10.2f %10.2f %10.2f %10.2f %10.2f  %9.2f  %-7s %9.2f %9.2f  %-7s %9.2f %9.2f "
-      "%9.2f %8.1f%s\n",
+      "%9.2f %9.2f %9.2f %8.1f%s\n",
       s.scene, tape.op_count(), ns(t.native), ns(t.point), ns(t.interval), ns(t.point_grad),
       ns(t.interval_grad), ratio, within ? "within" : "MISSED", ns(t.batch), bratio,
-      bwithin ? "within" : "MISSED", ns(t.batch_grad), bg_ratio, bg_point, mib(t.peak_bytes),
-      t.peak_exact ? "" : "*");
+      bwithin ? "within" : "MISSED", ns(t.batch_grad), bg_ratio, bg_point, ns(t.batch_point),
+      bp_ratio, mib(t.peak_bytes), t.peak_exact ? "" : "*");
   return {{"surface", s.scene},
           {"tape_ops", tape.op_count()},
           {"evaluations", o.points},
@@ -255,14 +280,16 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
             {"point_grad", ns(t.point_grad)},
             {"interval_grad", ns(t.interval_grad)},
             {"interval_batch", ns(t.batch)},
-            {"interval_grad_batch", ns(t.batch_grad)}}},
+            {"interval_grad_batch", ns(t.batch_grad)},
+            {"point_batch", ns(t.batch_point)}}},
           {"ops_per_second_per_core",
            {{"point", 1e9 / ns(t.point)},
             {"interval", 1e9 / ns(t.interval)},
             {"point_grad", 1e9 / ns(t.point_grad)},
             {"interval_grad", 1e9 / ns(t.interval_grad)},
             {"interval_batch", 1e9 / ns(t.batch)},
-            {"interval_grad_batch", 1e9 / ns(t.batch_grad)}}},
+            {"interval_grad_batch", 1e9 / ns(t.batch_grad)},
+            {"point_batch", 1e9 / ns(t.batch_point)}}},
           {"interval_over_point", ratio},
           {"interval_over_point_target", kIntervalOverPointTarget},
           {"within_target", within},
@@ -273,6 +300,7 @@ nlohmann::json report(const Surface& s, const Tape& tape, const Times& t, const 
           {"batch_within_target", bwithin},
           {"batch_grad_over_interval_grad", bg_ratio},
           {"batch_grad_over_point", bg_point},
+          {"point_batch_over_point", bp_ratio},
           {"peak_rss_mib", mib(t.peak_bytes)},
           {"peak_rss_per_run", t.peak_exact}};
 }
@@ -288,16 +316,16 @@ void run(const Options& o) {
     out.push_back(report(kSurfaces[i], tape, t, o));
   }
   // Throughput: tape operations per second on one core (the runs are single-threaded).
-  std::printf("\n%-13s %12s %12s %12s %12s %12s %12s\n", "throughput", "point", "interval",
-              "pt+grad", "iv+grad", "batch", "bgrad");
-  std::printf("%-13s %12s %12s %12s %12s %12s %12s\n", "", "Mop/s/core", "Mop/s/core", "Mop/s/core",
-              "Mop/s/core", "Mop/s/core", "Mop/s/core");
+  std::printf("\n%-13s %12s %12s %12s %12s %12s %12s %12s\n", "throughput", "point", "interval",
+              "pt+grad", "iv+grad", "batch", "bgrad", "bpoint");
+  std::printf("%-13s %12s %12s %12s %12s %12s %12s %12s\n", "", "Mop/s/core", "Mop/s/core",
+              "Mop/s/core", "Mop/s/core", "Mop/s/core", "Mop/s/core", "Mop/s/core");
   for (const nlohmann::json& r : out) {
     const auto mops = [&](const char* k) { return 1e3 / r["ns_per_op"][k].get<double>(); };
-    std::printf("%-13s %12.0f %12.0f %12.0f %12.0f %12.0f %12.0f\n",
+    std::printf("%-13s %12.0f %12.0f %12.0f %12.0f %12.0f %12.0f %12.0f\n",
                 r["surface"].get<std::string>().c_str(), mops("point"), mops("interval"),
                 mops("point_grad"), mops("interval_grad"), mops("interval_batch"),
-                mops("interval_grad_batch"));
+                mops("interval_grad_batch"), mops("point_batch"));
   }
   std::printf(
       "\nmedians of %d runs of %d evaluations; 'native' is the expression compiled as C++;\n"
@@ -305,9 +333,11 @@ void run(const Options& o) {
       "box\n"
       "'bgrad %d': the batched interval + gradient evaluator, the same way (bg/ivgrad: over "
       "iv+grad)\n"
+      "'bpoint %d': the batched point evaluator, %d points per pass (bp/point: over point)\n"
       "target: interval within %gx of point evaluation per operation, batch within %gx\n%s\n",
       o.runs, o.points, o.lanes, out.empty() ? "" : out[0]["batch_isa"].get<std::string>().c_str(),
-      o.lanes, o.lanes, kIntervalOverPointTarget, kBatchOverPointTarget, kPeakNote);
+      o.lanes, o.lanes, o.lanes, o.lanes, kIntervalOverPointTarget, kBatchOverPointTarget,
+      kPeakNote);
   if (!o.json.empty()) app::write_text_atomically(o.json, out.dump(2) + "\n");
 }
 
@@ -316,7 +346,7 @@ void setup(CLI::App& app) {
   app.add_option("--points", o->points, "evaluations per run")->check(CLI::Range(100, 10'000'000));
   app.add_option("--runs", o->runs, "runs per measurement (the median is reported)")
       ->check(CLI::Range(1, 101));
-  app.add_option("--lanes", o->lanes, "boxes per pass of the batched evaluators")
+  app.add_option("--lanes", o->lanes, "boxes (points) per pass of the batched evaluators")
       ->check(CLI::IsMember({4, 8, 16}));
   app.add_flag("--sse2", o->sse2,
                "run the batched evaluators' baseline (SSE2) code even where AVX2 is there");
