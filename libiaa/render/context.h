@@ -42,9 +42,9 @@ struct RenderContext {
   /// operations: 0.91x the CPU time batched; the gyroid's sin and cos, 0.375: 1.17x).
   std::optional<BatchIntervalEvalK<4>> batch;
   std::optional<BatchIntervalGradEvalK<4>> batch_grad;
-  /// Four points per pass (the coverage rays of a Partial part marched side by side): the
-  /// values `se.eval_point` gives, on the same tapes as `batch`.
-  std::optional<BatchPointEvalK<4>> batch_point;
+  /// Sixteen points per pass (the coverage rays of a Partial part marched side by side, a few
+  /// steps of each): the values `se.eval_point` gives, on the same tapes as `batch`.
+  std::optional<BatchPointEvalK<16>> batch_point;
 
   explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {
     if (!s.scene->tape->has_min_max() && lane_by_lane_share(*s.scene->tape) <= 0.25) {

@@ -550,36 +550,46 @@ class IaaPixel {
       m[r].b = b;
       m[r].active = true;
     }
+    // Each pass gives each marching ray an equal share of the batch's lanes, its next steps in
+    // order (one step each without a batch); a ray's steps after its crossing are evaluated for
+    // nothing, but a pass costs about what one point costs, and long marches take fewer passes.
+    constexpr int kLanes = decltype(ctx_.batch_point)::value_type::kLanes;
     for (;;) {
-      int lane[kMost], nl = 0;
-      Vec3 p[kMost];
-      double t[kMost], f[kMost];
+      int active = 0;
+      for (int r = 0; r < n; ++r) active += m[r].active ? 1 : 0;
+      if (active == 0) return;
+      const int share = ctx_.batch_point ? kLanes / active : 1;
+      int ray[kLanes], nl = 0;
+      Vec3 p[kLanes];
+      double t[kLanes], f[kLanes];
       for (int r = 0; r < n; ++r) {
-        if (!m[r].active) continue;
         const March& q = m[r];
-        t[nl] = q.k == 0 ? q.a : (q.k == q.steps ? q.b : q.a + (q.b - q.a) * q.k / q.steps);
-        p[nl] = eye + t[nl] * d[r];
-        lane[nl++] = r;
+        if (!q.active) continue;
+        for (int k = q.k; k <= q.steps && k < q.k + share; ++k) {
+          t[nl] = k == 0 ? q.a : (k == q.steps ? q.b : q.a + (q.b - q.a) * k / q.steps);
+          p[nl] = eye + t[nl] * d[r];
+          ray[nl++] = r;
+        }
       }
-      if (nl == 0) return;
       if (nl >= 2 && ctx_.batch_point) {
         ctx_.batch_point->eval(p, nl, f);
       } else {
         for (int l = 0; l < nl; ++l) f[l] = ctx_.se.eval_point(p[l]);
       }
       for (int l = 0; l < nl; ++l) {
-        March& q = m[lane[l]];
+        March& q = m[ray[l]];
+        if (!q.active) continue;  // crossed at an earlier step of this pass
         const double tb = t[l], fb = f[l];
         if (q.k == 0) {
           if (fb == 0) {
-            x[lane[l]] = {tb, tb, 0, 0};
-            found[lane[l]] = true;
+            x[ray[l]] = {tb, tb, 0, 0};
+            found[ray[l]] = true;
             q.active = false;
           }
         } else if (std::isfinite(q.fa) && std::isfinite(fb) &&
                    (fb == 0 || (q.fa < 0) != (fb < 0))) {
-          x[lane[l]] = {q.ta, tb, q.fa, fb};
-          found[lane[l]] = true;
+          x[ray[l]] = {q.ta, tb, q.fa, fb};
+          found[ray[l]] = true;
           q.active = false;
         }
         q.ta = tb;
