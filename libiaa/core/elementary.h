@@ -62,14 +62,17 @@ inline Quadrant reduce_half_pi(double x) {
 /// kRelErr * |v| when k != 0: 2^-99 rounded far up.
 inline constexpr double kReducedAbsErr = 0x1p-96;
 
-/// c as a T: a double, or a vector of doubles with c in every lane (a constant of the vector
-/// type, rather than a scalar GCC broadcasts at run time).
+/// c as a T: a double, or a vector of 2 or 4 doubles with c in every lane (a constant of the
+/// vector type, rather than a scalar GCC broadcasts at run time).
 template <class T>
 constexpr T splat(double c) {
   if constexpr (sizeof(T) == sizeof(double)) {
     return c;
-  } else {
+  } else if constexpr (sizeof(T) == 2 * sizeof(double)) {
     return T{c, c};
+  } else {
+    static_assert(sizeof(T) == 4 * sizeof(double), "a double, or a vector of 2 or 4");
+    return T{c, c, c, c};
   }
 }
 

@@ -4,10 +4,12 @@
 // (SSE2, W = 2) and, chosen at run time, for AVX2 (W = 4), as in eval_batch.cpp.
 #include "expr/eval_batch_point.h"
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 
+#include "core/elementary.h"
 #include "core/error.h"
 #include "expr/batch_lanes.h"
 #include "expr/eval_point.h"
@@ -30,7 +32,96 @@ IAA_ALWAYS_INLINE typename detail::batch::Lanes<W>::V fabs_lanes(
   return a;
 }
 
+/// The integer vectors of sin_cos_lanes: W quadrants (int32, as reduce_sin_cos_lanes truncates)
+/// and W doubles' bits.
+template <int W>
+struct TrigTypes;
+template <>
+struct TrigTypes<2> {
+  typedef std::int32_t I32 __attribute__((vector_size(8)));
+  typedef std::uint64_t U __attribute__((vector_size(16)));
+};
+template <>
+struct TrigTypes<4> {
+  typedef std::int32_t I32 __attribute__((vector_size(16)));
+  typedef std::uint64_t U __attribute__((vector_size(32)));
+};
+
+/// elementary::sincos over W lanes, for |x| <= kTrigMax in every lane (the caller checks): the
+/// reduction of reduce_half_pi (its truncation to int32, as reduce_sin_cos_lanes does, exact for
+/// |k| < 2^20), sin_poly and cos_poly on vectors, and sin_of's selection by the bits of k; the
+/// same operations in the same order as the scalar kernel in each lane, so the same doubles.
+template <int W>
+IAA_ALWAYS_INLINE void sin_cos_lanes(typename detail::batch::Lanes<W>::V x,
+                                     typename detail::batch::Lanes<W>::V* sin_x,
+                                     typename detail::batch::Lanes<W>::V* cos_x) {
+  using V = typename detail::batch::Lanes<W>::V;
+  using M = typename detail::batch::Lanes<W>::M;
+  using U = typename TrigTypes<W>::U;
+  using I32 = typename TrigTypes<W>::I32;
+  namespace el = elementary;
+  const V y = x * el::kTwoOverPi;
+  U sign;
+  std::memcpy(&sign, &y, sizeof y);
+  sign = (sign & 0x8000000000000000ULL) | std::bit_cast<std::uint64_t>(0.5);
+  V half;
+  std::memcpy(&half, &sign, sizeof half);  // copysign(0.5, y)
+  const I32 k = __builtin_convertvector(y + half, I32);
+  const V kd = __builtin_convertvector(k, V);
+  const V r = ((x - kd * el::kHalfPi1) - kd * el::kHalfPi2) - kd * el::kHalfPi3;
+  const V s = el::sin_poly(r), c = el::cos_poly(r);
+  const M kl = __builtin_convertvector(k, M);
+  U sb, cb;
+  std::memcpy(&sb, &s, sizeof s);
+  std::memcpy(&cb, &c, sizeof c);
+  // sin_of(k, s, c): c for odd k, s for even, the sign flipped for k = 2, 3 mod 4.
+  const auto sin_of = [&](M q) __attribute__((always_inline)) {
+    U odd, flip;
+    const M o = M{} - (q & 1), f = (q & 2) << 62;
+    std::memcpy(&odd, &o, sizeof o);
+    std::memcpy(&flip, &f, sizeof f);
+    const U bits = ((cb & odd) | (sb & ~odd)) ^ flip;
+    V v;
+    std::memcpy(&v, &bits, sizeof v);
+    return v;
+  };
+  *sin_x = sin_of(kl);
+  *cos_x = sin_of(kl + 1);
+}
+
 }  // namespace
+
+double point_lane_by_lane_share(const Tape& tape) {
+  int ops = 0, slow = 0;
+  const auto ins = tape.instrs();
+  for (int i = tape.first_op(); i < tape.size(); ++i) {
+    const Op op = ins[static_cast<std::size_t>(i)].op;
+    if (op == Op::kPairedCos) continue;
+    ++ops;
+    switch (op) {  // the operations BatchPointEvalK runs in vectors
+      case Op::kAdd:
+      case Op::kSub:
+      case Op::kMul:
+      case Op::kScale:
+      case Op::kDivConst:
+      case Op::kDiv:
+      case Op::kNeg:
+      case Op::kSquare:
+      case Op::kAbs:
+      case Op::kPowInt:
+      case Op::kMin:
+      case Op::kMax:
+      case Op::kSin:
+      case Op::kCos:
+      case Op::kSinCos:
+        break;
+      default:
+        ++slow;
+        break;
+    }
+  }
+  return ops > 0 ? double(slow) / ops : 0.0;
+}
 
 template <int K>
 BatchPointEvalK<K>::BatchPointEvalK(const Tape& tape)
@@ -164,10 +255,34 @@ IAA_ALWAYS_INLINE void BatchPointEvalK<K>::run_impl(int n) {
           return take_b ? b : a;
         });
         break;
+      case Op::kSin:
+      case Op::kCos:
+      case Op::kSinCos: {
+        // The kernels of elementary.h where every lane is in their range (libm beyond it, as
+        // PointRules): sin, cos, or both into this slot and the paired cos after it.
+        const V big = L::splat(elementary::kTrigMax);
+        M out = L::none();
+        for (int c = 0; c < K; c += W) out |= ~(fabs_lanes<W>(L::load(sa.v + c)) <= big);
+        if (L::any(out)) {
+          detail::batch::Runner::scalar_lanes(*this, in, i, n);
+          break;
+        }
+        for (int c = 0; c < K; c += W) {
+          V sv, cv;
+          sin_cos_lanes<W>(L::load(sa.v + c), &sv, &cv);
+          if (in.op == Op::kCos) {
+            L::store(so.v + c, cv);
+          } else {
+            L::store(so.v + c, sv);
+            if (in.op == Op::kSinCos) L::store(s[i + 1].v + c, cv);
+          }
+        }
+        break;
+      }
       case Op::kPairedCos:
         break;  // written by the sincos before it
       default:
-        // sqrt, exp, log, sin, cos, sincos, tan, atan, the real power: PointRules in each lane.
+        // sqrt, exp, log, tan, atan, the real power: PointRules in each lane.
         detail::batch::Runner::scalar_lanes(*this, in, i, n);
         break;
     }

@@ -3,9 +3,10 @@
 // The point tape loop (eval_point.h) spends most of its time on the dispatch of each operation,
 // as the interval loop does (docs/eval.md). Here each slot holds K values, each operation is
 // dispatched once for all K points, and the arithmetic (add, sub, mul, scale, divc, div, neg,
-// square, integer powers, min, max) runs over the lanes in SIMD vectors (SSE2, or the AVX2 copy
-// of the loop chosen at run time; never FMA); every other operation (sqrt, the transcendentals,
-// abs, the real power) runs PointRules lane by lane.
+// square, abs, integer powers, min, max) and sin and cos (elementary.h's kernels, on vectors)
+// run over the lanes in SIMD vectors (SSE2, or the AVX2 copy of the loop chosen at run time;
+// never FMA); every other operation (sqrt, exp, log, tan, atan, the real power, and sin and cos
+// of an argument beyond the kernels' range) runs PointRules lane by lane.
 //
 // Same results: every lane's value is the double PointEval gives at that point (the same IEEE
 // operations in the same order, in the caller's rounding mode), NaN where it gives NaN.
@@ -53,6 +54,10 @@ class BatchPointEvalK : public detail::BatchIsa {
   const Tape* tape_;
   std::vector<Slot> slots_;
 };
+
+/// The share of the tape's operations (a sincos's paired cos not counted) that BatchPointEvalK
+/// runs lane by lane: sqrt, exp, log, tan, atan, the real power.
+double point_lane_by_lane_share(const Tape& tape);
 
 extern template class BatchPointEvalK<4>;
 extern template class BatchPointEvalK<8>;

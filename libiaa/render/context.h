@@ -43,15 +43,19 @@ struct RenderContext {
   std::optional<BatchIntervalEvalK<4>> batch;
   std::optional<BatchIntervalGradEvalK<4>> batch_grad;
   /// Sixteen points per pass (the coverage rays of a Partial part marched side by side, a few
-  /// steps of each): the values `se.eval_point` gives, on the same tapes as `batch`.
+  /// steps of each): the values `se.eval_point` gives, where the tape has no min or max and at
+  /// most a quarter of its operations run lane by lane there (its sin and cos do not: the
+  /// gyroid has it).
   std::optional<BatchPointEvalK<16>> batch_point;
 
   explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {
-    if (!s.scene->tape->has_min_max() && lane_by_lane_share(*s.scene->tape) <= 0.25) {
-      batch.emplace(*s.scene->tape);
-      batch_grad.emplace(*s.scene->tape);
-      batch_point.emplace(*s.scene->tape);
+    const Tape& tape = *s.scene->tape;
+    if (tape.has_min_max()) return;
+    if (lane_by_lane_share(tape) <= 0.25) {
+      batch.emplace(tape);
+      batch_grad.emplace(tape);
     }
+    if (point_lane_by_lane_share(tape) <= 0.25) batch_point.emplace(tape);
   }
 
   /// F over a box, counted. `partial` receives partial_domain().
