@@ -11,10 +11,13 @@
 // 32-byte vector crosses a call (see -Wno-psabi in CMakeLists.txt).
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <numbers>
 
+#include "core/elementary.h"
 #include "core/error.h"
 #include "core/interval.h"
 #include "core/vec.h"
@@ -54,12 +57,14 @@ struct VectorTypes;
 template <>
 struct VectorTypes<2> {
   typedef double V __attribute__((vector_size(16)));
-  typedef std::int64_t M __attribute__((vector_size(16)));  ///< comparison results: 0 or -1
+  typedef std::int64_t M __attribute__((vector_size(16)));   ///< comparison results: 0 or -1
+  typedef std::int32_t K32 __attribute__((vector_size(8)));  ///< quadrants of the trig rules
 };
 template <>
 struct VectorTypes<4> {
   typedef double V __attribute__((vector_size(32)));
   typedef std::int64_t M __attribute__((vector_size(32)));
+  typedef std::int32_t K32 __attribute__((vector_size(16)));  ///< quadrants of the trig rules
 };
 
 template <int W>
@@ -222,6 +227,90 @@ struct Lanes {
   static IAA_ALWAYS_INLINE I max(const I& a, const I& b, M& bad) {
     bad |= (a.lo > a.hi) | (b.lo > b.hi);
     return {max(a.lo, b.lo), max(a.hi, b.hi)};
+  }
+
+  /// The reduction of W arguments by pi/2 and sin and cos of the reduced ones
+  /// (elementary::reduce_sin_cos_lanes over W lanes): the same doubles as the scalar kernels.
+  struct Trig {
+    V r, s, c;
+    M k;
+  };
+  static IAA_ALWAYS_INLINE Trig reduce_sin_cos(V x) {
+    namespace el = elementary;
+    const V y = x * el::kTwoOverPi;
+    // copysign(0.5, y) by the sign bit; the truncation to int32 (|k| < 2^20) is the kernels'.
+    const V half = bits_to_v((v_to_bits(y) & splat_m(std::int64_t(0x8000000000000000ULL))) |
+                             splat_m(std::bit_cast<std::int64_t>(0.5)));
+    const typename VectorTypes<W>::K32 k =
+        __builtin_convertvector(y + half, typename VectorTypes<W>::K32);
+    const V kd = __builtin_convertvector(k, V);
+    const V r = ((x - kd * el::kHalfPi1) - kd * el::kHalfPi2) - kd * el::kHalfPi3;
+    return {r, el::sin_poly(r), el::cos_poly(r), __builtin_convertvector(k, M)};
+  }
+  /// elementary::sin_of lane by lane: c for odd k, s for even, the sign flipped for k = 2, 3
+  /// mod 4.
+  static IAA_ALWAYS_INLINE V sin_of(M k, V s, V c) {
+    const M odd = M{} - (k & 1);
+    return bits_to_v(((v_to_bits(c) & odd) | (v_to_bits(s) & ~odd)) ^ ((k & 2) << 62));
+  }
+  static IAA_ALWAYS_INLINE M v_to_bits(V v) {
+    M m;
+    std::memcpy(&m, &v, sizeof v);
+    return m;
+  }
+  static IAA_ALWAYS_INLINE V bits_to_v(M m) {
+    V v;
+    std::memcpy(&v, &m, sizeof v);
+    return v;
+  }
+  static IAA_ALWAYS_INLINE M splat_m(std::int64_t x) {
+    M m;
+    for (int j = 0; j < W; ++j) m[j] = x;
+    return m;
+  }
+
+  /// iaa::sincos (interval.cpp's sincos_lanes) over W intervals: each end reduced, its sin and
+  /// cos widened by the kernels' error bound, the lower of the two ends' lows and the higher
+  /// high, then +-1 where a multiple of pi/2 with that value lies inside; the same operations in
+  /// the same order, so the same bounds. An empty argument, or one that takes the whole range
+  /// (unbounded, beyond the kernels' range or 2 pi wide), is bad.
+  static IAA_ALWAYS_INLINE void sincos(const I& x, I* sin_x, I* cos_x, M& bad) {
+    namespace el = elementary;
+    const V big = splat(el::kTrigMax);
+    bad |= (x.lo > x.hi) | ~((-big <= x.lo) & (x.hi <= big)) |
+           (x.hi - x.lo >= splat(2.0 * std::numbers::pi));
+    const Trig a = reduce_sin_cos(x.lo), b = reduce_sin_cos(x.hi);
+    const auto abs_err = [&](const M& k) __attribute__((always_inline)) {
+      const M k0 = k == M{};
+      return bits_to_v((k0 & splat_m(std::bit_cast<std::int64_t>(0x1p-1070))) |
+                       (~k0 & splat_m(std::bit_cast<std::int64_t>(el::kReducedAbsErr))));
+    };
+    const V abs_a = abs_err(a.k), abs_b = abs_err(b.k);
+    const V rel = splat(el::kRelErr);
+    const V abs_mask = bits_to_v(splat_m(0x7fffffffffffffffLL));
+    const auto down_up = [&](V v, V abs, V * down, V * up) __attribute__((always_inline)) {
+      const V fabs_v = bits_to_v(v_to_bits(v) & v_to_bits(abs_mask));
+      const V err = rel * fabs_v + abs;
+      *down = -((-v) + err);
+      *up = v + err;
+    };
+    // The multiples of pi/2 in [lo, hi]: first .. last.
+    const V sure = splat(0x1p-90);
+    const M first = (a.r > sure) ? a.k + 1 : a.k;
+    const M last = (b.r < -sure) ? b.k - 1 : b.k;
+    const M count = last - first + 1;
+    const auto range = [&](int shift) __attribute__((always_inline)) {
+      V da, ua, db, ub;
+      down_up(sin_of(a.k + shift, a.s, a.c), abs_a, &da, &ua);
+      down_up(sin_of(b.k + shift, b.s, b.c), abs_b, &db, &ub);
+      V lo = min(da, db), hi = max(ua, ub);
+      const M phase = first + shift;
+      hi = (((1 - phase) & 3) < count) ? splat(1.0) : hi;
+      lo = (((3 - phase) & 3) < count) ? splat(-1.0) : lo;
+      return I{max(lo, splat(-1.0)), min(hi, splat(1.0))};
+    };
+    *sin_x = range(0);
+    *cos_x = range(1);
   }
 };
 

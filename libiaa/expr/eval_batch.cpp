@@ -152,9 +152,23 @@ IAA_ALWAYS_INLINE void BatchIntervalEvalK<K>::run_impl(int n) {
         each([&](const I& a, const I& b)
                  __attribute__((always_inline)) { return L::max(a, b, bad); });
         break;
+      case Op::kSin:
+      case Op::kCos:
+      case Op::kSinCos:
+        // sin, cos, or both into this slot and the paired cos after it.
+        for (int c = 0; c < K; c += W) {
+          I sv, cv;
+          L::sincos(L::load(sa.lo, sa.hi, c), &sv, &cv, bad);
+          if (in.op == Op::kCos) {
+            L::store(so.lo, so.hi, c, cv);
+          } else {
+            L::store(so.lo, so.hi, c, sv);
+            if (in.op == Op::kSinCos) L::store(s[i + 1].lo, s[i + 1].hi, c, cv);
+          }
+        }
+        break;
       default:
-        // sqrt, exp, log, sin, cos, sincos, tan, atan, the real power: the scalar rule in each
-        // lane.
+        // sqrt, exp, log, tan, atan, the real power: the scalar rule in each lane.
         bad = L::all();
         break;
     }
@@ -179,6 +193,9 @@ double lane_by_lane_share(const Tape& tape) {
       case Op::kNeg:
       case Op::kSquare:
       case Op::kPowInt:
+      case Op::kSin:
+      case Op::kCos:
+      case Op::kSinCos:
         break;
       default:
         ++slow;

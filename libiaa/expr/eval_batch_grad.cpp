@@ -77,9 +77,32 @@ IAA_ALWAYS_INLINE void BatchIntervalGradEvalK<K>::run_impl(int n) {
     if (in.op == Op::kPairedCos) continue;  // written by the sincos before it
     switch (in.op) {
       default:
-        // div, sqrt, exp, log, sin, cos, sincos, tan, atan, abs, min, max, the real power: the
-        // scalar rules in each lane.
+        // div, sqrt, exp, log, tan, atan, abs, min, max, the real power: the scalar rules in
+        // each lane.
         bad = L::all();
+        break;
+      case Op::kSin:
+      case Op::kCos:
+      case Op::kSinCos:
+        // sin a: (s, a' * c); cos a: (c, a' * (-s)) (IntervalGradRules::sincos); sincos puts
+        // the cos into the paired slot after this one, with this slot's mask.
+        for (int c = 0; c < K; c += W) {
+          I sv, cv;
+          L::sincos(ld(a[0], c), &sv, &cv, bad);
+          const I nsv = L::neg(sv);
+          const auto put = [&](Slot * out, const I& v, const I& dv) __attribute__((always_inline)) {
+            st(out[0], c, v);
+            for (int d = 1; d <= 3; ++d) {
+              if (m & (1u << (d - 1))) st(out[d], c, L::mul(ld(a[d], c), dv, bad));
+            }
+          };
+          if (in.op == Op::kCos) {
+            put(o, cv, nsv);
+          } else {
+            put(o, sv, cv);
+            if (in.op == Op::kSinCos) put(o + 4, cv, nsv);
+          }
+        }
         break;
       // The linear operations: the same rule for the value and the partials.
       case Op::kAdd:

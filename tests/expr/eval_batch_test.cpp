@@ -269,6 +269,44 @@ TEST(BatchIntervalEval, OpensItsOwnRoundingScope) {
   check_own_rounding_scope<BatchIntervalEval, IntervalEval>();
 }
 
+// sin and cos run on vectors in both interval batches: the same bounds as the scalar rules for
+// boxes that end at, just before or just after the multiples of pi/4 (where an extremum enters
+// the range, or a reduction changes quadrant), narrow and wide, and beyond the kernels' range.
+TEST(BatchIntervalEval, SinAndCosMatchTheScalarRulesAcrossQuadrants) {
+  std::vector<Interval> sides;
+  const double widths[] = {0.0, 1e-300, 1e-12, 1e-3, 0.5, 1.6, 3.2, 6.3};
+  for (int k = -12; k <= 12; ++k) {
+    const double q = k * 0.7853981633974483;
+    for (const double at : {q, std::nextafter(q, 1e9), std::nextafter(q, -1e9)}) {
+      for (const double w : widths) {
+        sides.push_back(Interval(at, at + w));
+        sides.push_back(Interval(at - w, at));
+      }
+    }
+  }
+  for (const double big : {999999.0, 1e6, 1.0000001e6}) sides.push_back(Interval(big - 1, big));
+  for (const char* e : {"sin(x)", "cos(x)", "sin(x) * cos(x)", "sin(x) * y - cos(z) * x"}) {
+    const Tape tape = Tape::parse(e);
+    BatchIntervalEvalK<4> be(tape);
+    IntervalEval ie(tape);
+    BatchIntervalGradEvalK<4> bg(tape);
+    IntervalGradEval ig(tape);
+    for (int baseline = 0; baseline < 2; ++baseline) {
+      be.use_baseline(baseline != 0);
+      bg.use_baseline(baseline != 0);
+      for (std::size_t i = 0; i + 4 <= sides.size(); i += 4) {
+        std::vector<IBox> boxes;
+        for (std::size_t j = 0; j < 4; ++j) {
+          boxes.push_back(IBox(sides[i + j], sides[(i + 5 * j + 1) % sides.size()],
+                               sides[(i + 11 * j + 2) % sides.size()]));
+        }
+        ASSERT_TRUE(same_as_scalar(be, ie, boxes)) << e;
+        ASSERT_TRUE(same_as_scalar(bg, ig, boxes)) << e;
+      }
+    }
+  }
+}
+
 // --- The interval + gradient evaluator ---
 
 // Each operation, with all partials and with each smaller set.
