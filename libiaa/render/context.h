@@ -37,9 +37,9 @@ struct RenderContext {
   std::uint64_t evals = 0;  ///< interval evaluations so far (both interval modes)
   MeanValueBudget mv;       ///< of the current screen block or pixel
   /// Four boxes per pass (the depth pieces of sibling beams searched side by side, beam.h):
-  /// the intervals `se` gives, where the tape has no min or max (`se` then specializes nothing)
-  /// and at most a quarter of its operations run lane by lane (blobby's exp, 0.14 of its
-  /// operations: 0.91x the CPU time batched; the gyroid's sin and cos, 0.375: 1.17x).
+  /// the intervals `se` gives, where at most a quarter of the tape's operations run lane by
+  /// lane (blobby's exp, 0.14 of its operations: 0.91x the CPU time batched; the gyroid's sin
+  /// and cos, 0.375, were 1.17x before they ran in vectors).
   std::optional<BatchIntervalEvalK<4>> batch;
   std::optional<BatchIntervalGradEvalK<4>> batch_grad;
   /// Sixteen points per pass (the coverage rays of a Partial part marched side by side, a few
@@ -50,12 +50,14 @@ struct RenderContext {
 
   explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {
     const Tape& tape = *s.scene->tape;
-    if (tape.has_min_max()) return;
+    // With min or max, `se` evaluates specialized tapes, which give the whole tape's intervals
+    // (specialize.h; only a zero bound of a partial derivative may differ in sign, which no test
+    // of the renderer tells apart), so the interval batches run the whole tape beside it.
     if (lane_by_lane_share(tape) <= 0.25) {
       batch.emplace(tape);
       batch_grad.emplace(tape);
     }
-    if (point_lane_by_lane_share(tape) <= 0.25) batch_point.emplace(tape);
+    if (!tape.has_min_max() && point_lane_by_lane_share(tape) <= 0.25) batch_point.emplace(tape);
   }
 
   /// F over a box, counted. `partial` receives partial_domain().
