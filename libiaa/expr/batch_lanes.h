@@ -268,6 +268,10 @@ struct Lanes {
     for (int j = 0; j < W; ++j) m[j] = x;
     return m;
   }
+  /// std::fabs lane by lane: the sign bit cleared (a compare-and-negate would keep -0).
+  static IAA_ALWAYS_INLINE V fabs(V v) {
+    return bits_to_v(v_to_bits(v) & splat_m(std::numeric_limits<std::int64_t>::max()));
+  }
 
   /// iaa::sincos (interval.cpp's sincos_lanes) over W intervals: each end reduced, its sin and
   /// cos widened by the kernels' error bound, the lower of the two ends' lows and the higher
@@ -287,10 +291,8 @@ struct Lanes {
     };
     const V abs_a = abs_err(a.k), abs_b = abs_err(b.k);
     const V rel = splat(el::kRelErr);
-    const V abs_mask = bits_to_v(splat_m(0x7fffffffffffffffLL));
     const auto down_up = [&](V v, V abs, V * down, V * up) __attribute__((always_inline)) {
-      const V fabs_v = bits_to_v(v_to_bits(v) & v_to_bits(abs_mask));
-      const V err = rel * fabs_v + abs;
+      const V err = rel * fabs(v) + abs;
       *down = -((-v) + err);
       *up = v + err;
     };

@@ -18,75 +18,17 @@ namespace iaa {
 
 namespace {
 
-/// std::fabs lane by lane: the sign bit cleared (a compare-and-negate would keep -0.0).
-template <int W>
-IAA_ALWAYS_INLINE typename detail::batch::Lanes<W>::V fabs_lanes(
-    typename detail::batch::Lanes<W>::V a) {
-  using M = typename detail::batch::Lanes<W>::M;
-  M bits;
-  std::memcpy(&bits, &a, sizeof a);
-  M mask;
-  for (int j = 0; j < W; ++j) mask[j] = std::numeric_limits<std::int64_t>::max();
-  bits &= mask;
-  std::memcpy(&a, &bits, sizeof a);
-  return a;
-}
-
-/// The integer vectors of sin_cos_lanes: W quadrants (int32, as reduce_sin_cos_lanes truncates)
-/// and W doubles' bits.
-template <int W>
-struct TrigTypes;
-template <>
-struct TrigTypes<2> {
-  typedef std::int32_t I32 __attribute__((vector_size(8)));
-  typedef std::uint64_t U __attribute__((vector_size(16)));
-};
-template <>
-struct TrigTypes<4> {
-  typedef std::int32_t I32 __attribute__((vector_size(16)));
-  typedef std::uint64_t U __attribute__((vector_size(32)));
-};
-
 /// elementary::sincos over W lanes, for |x| <= kTrigMax in every lane (the caller checks): the
-/// reduction of reduce_half_pi (its truncation to int32, as reduce_sin_cos_lanes does, exact for
-/// |k| < 2^20), sin_poly and cos_poly on vectors, and sin_of's selection by the bits of k; the
-/// same operations in the same order as the scalar kernel in each lane, so the same doubles.
+/// reduction and both polynomials of batch_lanes.h (the kernels' operations in the same order on
+/// each lane, so the same doubles), then sin_of's selection by the bits of k.
 template <int W>
 IAA_ALWAYS_INLINE void sin_cos_lanes(typename detail::batch::Lanes<W>::V x,
                                      typename detail::batch::Lanes<W>::V* sin_x,
                                      typename detail::batch::Lanes<W>::V* cos_x) {
-  using V = typename detail::batch::Lanes<W>::V;
-  using M = typename detail::batch::Lanes<W>::M;
-  using U = typename TrigTypes<W>::U;
-  using I32 = typename TrigTypes<W>::I32;
-  namespace el = elementary;
-  const V y = x * el::kTwoOverPi;
-  U sign;
-  std::memcpy(&sign, &y, sizeof y);
-  sign = (sign & 0x8000000000000000ULL) | std::bit_cast<std::uint64_t>(0.5);
-  V half;
-  std::memcpy(&half, &sign, sizeof half);  // copysign(0.5, y)
-  const I32 k = __builtin_convertvector(y + half, I32);
-  const V kd = __builtin_convertvector(k, V);
-  const V r = ((x - kd * el::kHalfPi1) - kd * el::kHalfPi2) - kd * el::kHalfPi3;
-  const V s = el::sin_poly(r), c = el::cos_poly(r);
-  const M kl = __builtin_convertvector(k, M);
-  U sb, cb;
-  std::memcpy(&sb, &s, sizeof s);
-  std::memcpy(&cb, &c, sizeof c);
-  // sin_of(k, s, c): c for odd k, s for even, the sign flipped for k = 2, 3 mod 4.
-  const auto sin_of = [&](M q) __attribute__((always_inline)) {
-    U odd, flip;
-    const M o = M{} - (q & 1), f = (q & 2) << 62;
-    std::memcpy(&odd, &o, sizeof o);
-    std::memcpy(&flip, &f, sizeof f);
-    const U bits = ((cb & odd) | (sb & ~odd)) ^ flip;
-    V v;
-    std::memcpy(&v, &bits, sizeof v);
-    return v;
-  };
-  *sin_x = sin_of(kl);
-  *cos_x = sin_of(kl + 1);
+  using L = detail::batch::Lanes<W>;
+  const typename L::Trig t = L::reduce_sin_cos(x);
+  *sin_x = L::sin_of(t.k, t.s, t.c);
+  *cos_x = L::sin_of(t.k + 1, t.s, t.c);
 }
 
 }  // namespace
@@ -215,7 +157,7 @@ IAA_ALWAYS_INLINE void BatchPointEvalK<K>::run_impl(int n) {
         each([](V a, V) __attribute__((always_inline)) { return a * a; });
         break;
       case Op::kAbs:
-        each([](V a, V) __attribute__((always_inline)) { return fabs_lanes<W>(a); });
+        each([](V a, V) __attribute__((always_inline)) { return L::fabs(a); });
         break;
       case Op::kPowInt: {
         // PointRules::pow_int: binary powering of |a| in the interval rule's order, the sign
@@ -230,7 +172,7 @@ IAA_ALWAYS_INLINE void BatchPointEvalK<K>::run_impl(int n) {
           break;
         }
         each([&](V a, V) __attribute__((always_inline)) {
-          V x = fabs_lanes<W>(a);
+          V x = L::fabs(a);
           V y = (p & 1) ? x : one;
           for (int q = p >> 1; q > 0; q >>= 1) {
             x = x * x;
@@ -262,7 +204,7 @@ IAA_ALWAYS_INLINE void BatchPointEvalK<K>::run_impl(int n) {
         // PointRules): sin, cos, or both into this slot and the paired cos after it.
         const V big = L::splat(elementary::kTrigMax);
         M out = L::none();
-        for (int c = 0; c < K; c += W) out |= ~(fabs_lanes<W>(L::load(sa.v + c)) <= big);
+        for (int c = 0; c < K; c += W) out |= ~(L::fabs(L::load(sa.v + c)) <= big);
         if (L::any(out)) {
           detail::batch::Runner::scalar_lanes(*this, in, i, n);
           break;
