@@ -43,9 +43,10 @@ struct RenderContext {
   std::optional<BatchIntervalEvalK<4>> batch;
   std::optional<BatchIntervalGradEvalK<4>> batch_grad;
   /// Sixteen points per pass (the coverage rays of a Partial part marched side by side, a few
-  /// steps of each): the values `se.eval_point` gives, where the tape has no min or max and at
-  /// most a quarter of its operations run lane by lane there (its sin and cos do not: the
-  /// gyroid has it).
+  /// steps of each), where at most a quarter of the tape's operations run lane by lane there
+  /// (sin and cos do not: the gyroid has it): the whole tape's values, which are `se`'s but
+  /// where a branch that `se` dropped overflows at the point (specialize.h; they shade, they
+  /// certify nothing).
   std::optional<BatchPointEvalK<16>> batch_point;
 
   explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {
@@ -57,7 +58,7 @@ struct RenderContext {
       batch.emplace(tape);
       batch_grad.emplace(tape);
     }
-    if (!tape.has_min_max() && point_lane_by_lane_share(tape) <= 0.25) batch_point.emplace(tape);
+    if (point_lane_by_lane_share(tape) <= 0.25) batch_point.emplace(tape);
   }
 
   /// F over a box, counted. `partial` receives partial_domain().
