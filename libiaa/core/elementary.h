@@ -156,8 +156,8 @@ struct TrigLanes {
   V2l k;
   V2d s, c;
 };
+using V2i = std::int32_t __attribute__((vector_size(8)));
 inline TrigLanes reduce_sin_cos_lanes(V2d x) {
-  using V2i = std::int32_t __attribute__((vector_size(8)));
   const V2d y = x * kTwoOverPi;
   // copysign(0.5, y) by the sign bit; the truncation to int32 (|k| < 2^20) is reduce_half_pi's.
   const V2d half = std::bit_cast<V2d>((std::bit_cast<V2u>(y) & 0x8000000000000000ULL) |
@@ -238,6 +238,20 @@ inline constexpr double kExp2Table[32] = {
     0x1.d5818dcfba487p+0, 0x1.dfc97337b9b5fp+0, 0x1.ea4afa2a490dap+0, 0x1.f50765b6e4540p+0,
 };
 
+/// The reduction of exp_kernel: 32/ln2, and ln2/32 = kExpL1 + kExpL2 + d (see exp_kernel).
+inline constexpr double kExp32OverLn2 = 0x1.71547652b82fep+5;
+inline constexpr double kExpL1 = 0x1.62e42fefap-6, kExpL2 = 0x1.cf79abc9e3b3ap-45;
+/// exp r for the reduced argument r, |r| <= 0.010832: 1 + (r + z H) (see exp_kernel).
+template <class T>
+inline T exp_poly(T r) {
+  constexpr auto K = splat<T>;
+  const T z = r * r;
+  const T h = (K(0.5) + r * K(0x1.5555555555555p-3)) +                      // 1/2, 1/3!
+              z * ((K(0x1.5555555555555p-5) + r * K(0x1.1111111111111p-7))  // 1/4!, 1/5!
+                   + z * K(0x1.6c16c16c16c17p-10));                         // 1/6!
+  return K(1.0) + (r + z * h);
+}
+
 /// exp x for |x| <= kExpMax, with |v - exp x| <= kRelErr |v| (no absolute term).
 ///
 /// x = k ln2/32 + r, k = trunc(x 32/ln2 +- 1/2), |r| <= ln2/64 + 2^-40 < 0.010832, and
@@ -252,21 +266,43 @@ inline constexpr double kExp2Table[32] = {
 /// and the last add e |v|, v >= 0.989: 1.05 e. The table entry adds 0.43 e and the product by
 /// it e; the product by 2^(k >> 5) is exact. In all |v - exp x| <= 2.5 e |v|.
 inline double exp_kernel(double x) {
-  constexpr double k32OverLn2 = 0x1.71547652b82fep+5;
-  constexpr double kL1 = 0x1.62e42fefap-6, kL2 = 0x1.cf79abc9e3b3ap-45;
-  const double y = x * k32OverLn2;
+  const double y = x * kExp32OverLn2;
   const auto k = static_cast<std::int64_t>(y + std::copysign(0.5, y));
   const double kd = static_cast<double>(k);
-  const double r = (x - kd * kL1) - kd * kL2;
-  const double z = r * r;
-  const double h = (0.5 + r * 0x1.5555555555555p-3) +                      // 1/2, 1/3!
-                   z * ((0x1.5555555555555p-5 + r * 0x1.1111111111111p-7)  // 1/4!, 1/5!
-                        + z * 0x1.6c16c16c16c17p-10);                      // 1/6!
-  const double e_r = 1.0 + (r + z * h);
+  const double e_r = exp_poly((x - kd * kExpL1) - kd * kExpL2);
   // 2^(k >> 5) (an arithmetic shift: floor(k / 32)) is a normal double for |x| <= kExpMax.
   const double scale = std::bit_cast<double>(static_cast<std::uint64_t>((k >> 5) + 1023) << 52);
   return (scale * kExp2Table[k & 31]) * e_r;
 }
+
+#ifdef IAA_ELEMENTARY_LANES
+/// exp_kernel over the lanes of a vector V of doubles (I32 and I64 the vectors of as many 32-
+/// and 64-bit integers): the same operations in the same order on each lane, so the same doubles
+/// in every rounding mode (tests/core/elementary_mpfr_test.cpp checks bit equality). |x| <=
+/// kExpMax in the lanes whose result is used; the others give some finite or NaN double (the
+/// table index is masked, so nothing is read out of bounds).
+template <class V, class I32, class I64>
+inline V exp_kernel_lanes(V x) {
+  constexpr auto K = splat<V>;
+  const V y = x * K(kExp32OverLn2);
+  // copysign(0.5, y) by the sign bit; |k| < 2^15, so the truncation to int32 is the scalar one.
+  const V half = std::bit_cast<V>((std::bit_cast<I64>(y) & std::int64_t(0x8000000000000000ULL)) |
+                                  std::bit_cast<std::int64_t>(0.5));
+  const I32 k = __builtin_convertvector(y + half, I32);
+  const V kd = __builtin_convertvector(k, V);
+  const V e_r = exp_poly((x - kd * K(kExpL1)) - kd * K(kExpL2));
+  // floor(k / 32) by the 32-bit arithmetic shift, widened to 64 bits for the exponent field.
+  const I64 scale = (__builtin_convertvector((k >> 5) + 1023, I64)) << 52;
+  V t;
+  for (int j = 0; j < static_cast<int>(sizeof(V) / sizeof(double)); ++j)
+    t[j] = kExp2Table[k[j] & 31];
+  return (std::bit_cast<V>(scale) * t) * e_r;
+}
+/// exp_kernel of two arguments, one per lane (the interval rule's two ends).
+inline V2d exp_kernel2(V2d x) {
+  return exp_kernel_lanes<V2d, V2i, V2l>(x);
+}
+#endif
 
 /// log(j/64) for j = 48 .. 96 as hi + lo: hi rounded to nearest, lo the rest rounded to nearest,
 /// so |hi + lo - log(j/64)| <= 2^-53 |lo| < 2^-107 (the MPFR test checks each pair).

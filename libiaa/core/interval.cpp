@@ -211,6 +211,14 @@ double exp_above(double v) {
 Interval exp(const Interval& x) {
   if (x.is_empty()) return x;
   IAA_ASSERT_UPWARD();
+#ifdef IAA_ELEMENTARY_LANES
+  // Both ends in the kernel's range (the common case): one pass over two lanes, the same
+  // doubles as exp_below's and exp_above's kernel calls.
+  if (std::fabs(x.lo()) <= elementary::kExpMax && std::fabs(x.hi()) <= elementary::kExpMax) {
+    const elementary::V2d v = elementary::exp_kernel2(elementary::V2d{x.lo(), x.hi()});
+    return Interval(below(v[0], 0.0), above(v[1], 0.0));
+  }
+#endif
   return Interval(exp_below(x.lo()), exp_above(x.hi()));
 }
 

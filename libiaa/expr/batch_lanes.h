@@ -273,6 +273,26 @@ struct Lanes {
     return bits_to_v(v_to_bits(v) & splat_m(std::numeric_limits<std::int64_t>::max()));
   }
 
+  /// True in the lanes where |x| <= kExpMax (false for NaN): where exp is the kernel's.
+  static IAA_ALWAYS_INLINE M exp_in_range(V x) { return fabs(x) <= splat(elementary::kExpMax); }
+  /// elementary::exp_kernel lane by lane (the same doubles) where exp_in_range; the other lanes
+  /// compute exp 0, so that no conversion to an integer overflows.
+  static IAA_ALWAYS_INLINE V exp_kernel(V x) {
+    using K32 = typename VectorTypes<W>::K32;
+    return elementary::exp_kernel_lanes<V, K32, M>(exp_in_range(x) ? x : splat(0.0));
+  }
+  /// iaa::exp (interval.cpp) over W intervals with both ends in the kernel's range: each end's
+  /// kernel value widened by its bound (interval.cpp's below and above, the same operations). An
+  /// empty argument, an end beyond the range (glibc's exp there) or bounds that cross (which
+  /// Interval(lo, hi) would make empty; never seen) are bad.
+  static IAA_ALWAYS_INLINE I exp(const I& x, M& bad) {
+    const V rel = splat(elementary::kRelErr), zero = splat(0.0);
+    const V lo = exp_kernel(x.lo), hi = exp_kernel(x.hi);
+    const I r{-((-lo) + (rel * fabs(lo) + zero)), hi + (rel * fabs(hi) + zero)};
+    bad |= ~exp_in_range(x.lo) | ~exp_in_range(x.hi) | ~(x.lo <= x.hi) | ~(r.lo <= r.hi);
+    return r;
+  }
+
   /// iaa::sincos (interval.cpp's sincos_lanes) over W intervals: each end reduced, its sin and
   /// cos widened by the kernels' error bound, the lower of the two ends' lows and the higher
   /// high, then +-1 where a multiple of pi/2 with that value lies inside; the same operations in

@@ -152,6 +152,9 @@ IAA_ALWAYS_INLINE void BatchIntervalEvalK<K>::run_impl(int n) {
         each([&](const I& a, const I& b)
                  __attribute__((always_inline)) { return L::max(a, b, bad); });
         break;
+      case Op::kExp:
+        each([&](const I& a, const I&) __attribute__((always_inline)) { return L::exp(a, bad); });
+        break;
       case Op::kSin:
       case Op::kCos:
       case Op::kSinCos:
@@ -168,7 +171,7 @@ IAA_ALWAYS_INLINE void BatchIntervalEvalK<K>::run_impl(int n) {
         }
         break;
       default:
-        // sqrt, exp, log, tan, atan, the real power: the scalar rule in each lane.
+        // sqrt, log, tan, atan, the real power: the scalar rule in each lane.
         bad = L::all();
         break;
     }
@@ -193,6 +196,7 @@ double lane_by_lane_share(const Tape& tape) {
       case Op::kNeg:
       case Op::kSquare:
       case Op::kPowInt:
+      case Op::kExp:
       case Op::kSin:
       case Op::kCos:
       case Op::kSinCos:

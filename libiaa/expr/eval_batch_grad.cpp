@@ -77,9 +77,19 @@ IAA_ALWAYS_INLINE void BatchIntervalGradEvalK<K>::run_impl(int n) {
     if (in.op == Op::kPairedCos) continue;  // written by the sincos before it
     switch (in.op) {
       default:
-        // div, sqrt, exp, log, tan, atan, abs, min, max, the real power: the scalar rules in
-        // each lane.
+        // div, sqrt, log, tan, atan, abs, min, max, the real power: the scalar rules in each
+        // lane.
         bad = L::all();
+        break;
+      case Op::kExp:
+        // (e, a' * e), e = exp a (IntervalGradRules::exp).
+        for (int c = 0; c < K; c += W) {
+          const I e = L::exp(ld(a[0], c), bad);
+          st(o[0], c, e);
+          for (int d = 1; d <= 3; ++d) {
+            if (m & (1u << (d - 1))) st(o[d], c, L::mul(ld(a[d], c), e, bad));
+          }
+        }
         break;
       case Op::kSin:
       case Op::kCos:

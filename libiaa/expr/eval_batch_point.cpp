@@ -53,6 +53,7 @@ double point_lane_by_lane_share(const Tape& tape) {
       case Op::kPowInt:
       case Op::kMin:
       case Op::kMax:
+      case Op::kExp:
       case Op::kSin:
       case Op::kCos:
       case Op::kSinCos:
@@ -221,10 +222,21 @@ IAA_ALWAYS_INLINE void BatchPointEvalK<K>::run_impl(int n) {
         }
         break;
       }
+      case Op::kExp: {
+        // The kernel where every lane is in its range (libm beyond it, as PointRules).
+        M ok = L::all();
+        for (int c = 0; c < K; c += W) ok &= L::exp_in_range(L::load(sa.v + c));
+        if (L::any(~ok)) {
+          detail::batch::Runner::scalar_lanes(*this, in, i, n);
+          break;
+        }
+        each([](V a, V) __attribute__((always_inline)) { return L::exp_kernel(a); });
+        break;
+      }
       case Op::kPairedCos:
         break;  // written by the sincos before it
       default:
-        // sqrt, exp, log, tan, atan, the real power: PointRules in each lane.
+        // sqrt, log, tan, atan, the real power: PointRules in each lane.
         detail::batch::Runner::scalar_lanes(*this, in, i, n);
         break;
     }

@@ -199,6 +199,34 @@ TEST(ElementaryMpfr, ExpKernelWithinHalfItsBound) {
   std::printf("exp: worst error %.3f of the bound (%zu arguments, 4 modes)\n", w, xs.size());
 }
 
+/// The interval rule of exp takes both ends through exp_kernel2 (two lanes at once), and the
+/// batched evaluators run exp_kernel_lanes over 2 or 4 lanes: the scalar kernel's doubles bit for
+/// bit, in every rounding mode, so that the bound proved above holds for them.
+TEST(ElementaryMpfr, PairedExpKernelIsTheScalarOne) {
+#ifdef IAA_ELEMENTARY_LANES
+  std::mt19937_64 rng(23);
+  const std::vector<double> xs = arguments(rng, el::kExpMax, exp_hard());
+  const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  long checked = 0;
+  for (int mode : kModes) {
+    std::fesetround(mode);
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      const double a = xs[i], b = xs[(i * 7 + 1) % xs.size()];
+      const el::V2d v = el::exp_kernel2(el::V2d{a, b});
+      const bool same =
+          bits(v[0]) == bits(el::exp_kernel(a)) && bits(v[1]) == bits(el::exp_kernel(b));
+      if (!same) std::fesetround(FE_TONEAREST);
+      ASSERT_TRUE(same) << "x = " << std::hexfloat << a << ", " << b << ", mode " << mode;
+      ++checked;
+    }
+  }
+  std::fesetround(FE_TONEAREST);
+  EXPECT_EQ(checked, 4 * static_cast<long>(xs.size()));
+#else
+  GTEST_SKIP() << "no vector extension: the interval rule calls the scalar kernel";
+#endif
+}
+
 TEST(ElementaryMpfr, ExpTableIsRoundedToNearest) {
   mpfr_t t;
   mpfr_init2(t, 256);

@@ -307,6 +307,60 @@ TEST(BatchIntervalEval, SinAndCosMatchTheScalarRulesAcrossQuadrants) {
   }
 }
 
+/// Arguments of exp where its rules change: the kernel's range ends (+-708 and the doubles
+/// around them, beyond which glibc's exp is used, and overflow near 709.8), the reduction's
+/// switches k ln2/32 and (k + 1/2) ln2/32 and an ulp either side, zeros and tiny values.
+std::vector<double> exp_arguments() {
+  std::vector<double> xs = {0.0,   -0.0,   5e-324, -1e-310, 1e-8,  -0.5,
+                            700.0, -745.0, 709.7,  709.8,   -708.5};
+  for (const double e : {708.0, -708.0}) {
+    xs.insert(xs.end(), {e, std::nextafter(e, 1e9), std::nextafter(e, -1e9)});
+  }
+  for (int k = -300; k <= 300; k += 7) {
+    for (const double h : {0.0, 0.5}) {
+      const double x = (k + h) * 0.6931471805599453 / 32;
+      xs.insert(xs.end(), {x, std::nextafter(x, 1e9), std::nextafter(x, -1e9)});
+    }
+  }
+  RandomExpr r(23);
+  for (int i = 0; i < 100; ++i) xs.push_back(r.uniform(-708, 708));
+  return xs;
+}
+
+// exp runs on vectors in both interval batches: the same bounds as the scalar rules for boxes
+// whose ends fall where its rules change (exp_arguments), narrow and wide, and unbounded.
+TEST(BatchIntervalEval, ExpMatchesTheScalarRulesAcrossItsRange) {
+  const std::vector<double> xs = exp_arguments();
+  std::vector<Interval> sides;
+  for (const double x : xs) {
+    for (const double w : {0.0, 1e-12, 0.3, 20.0}) sides.push_back(Interval(x, x + w));
+  }
+  sides.push_back(Interval(-Interval::kInf, 1.0));
+  sides.push_back(Interval(1.0, Interval::kInf));
+  sides.push_back(Interval::whole());
+  sides.push_back(Interval::empty());
+  for (const char* e : {"exp(x)", "exp(x) * y", "exp(x * y) - exp(-z)"}) {
+    const Tape tape = Tape::parse(e);
+    BatchIntervalEvalK<4> be(tape);
+    IntervalEval ie(tape);
+    BatchIntervalGradEvalK<4> bg(tape);
+    IntervalGradEval ig(tape);
+    for (int baseline = 0; baseline < 2; ++baseline) {
+      be.use_baseline(baseline != 0);
+      bg.use_baseline(baseline != 0);
+      for (std::size_t i = 0; i + 4 <= sides.size(); i += 4) {
+        std::vector<IBox> boxes;
+        for (std::size_t j = 0; j < 4; ++j) {
+          boxes.push_back(IBox(sides[i + j], sides[(i + 5 * j + 1) % sides.size()],
+                               sides[(i + 11 * j + 2) % sides.size()]));
+        }
+        ASSERT_TRUE(same_as_scalar(be, ie, boxes)) << e;
+        ASSERT_TRUE(same_as_scalar(bg, ig, boxes)) << e;
+      }
+    }
+  }
+}
+
 // --- The interval + gradient evaluator ---
 
 // Each operation, with all partials and with each smaller set.
@@ -483,6 +537,44 @@ TEST(BatchPointEval, SinAndCosMatchTheScalarKernelsInEveryRoundingMode) {
           Vec3 p[16];
           for (std::size_t j = 0; j < 16; ++j) {
             p[j] = {xs[i + j], xs[(i + j * 7) % xs.size()], xs[(i + j * 13) % xs.size()]};
+          }
+          double out[16];
+          be.eval(p, 16, out);
+          for (std::size_t j = 0; j < 16; ++j) {
+            const double want = pe.eval(p[j]);
+            EXPECT_EQ(bits(out[j]), bits(want)) << e << " at (" << p[j].x << ", " << p[j].y << ", "
+                                                << p[j].z << "), mode " << mode << ", " << be.isa();
+          }
+        }
+        std::fesetround(saved);
+      }
+    }
+  }
+}
+
+// exp runs elementary.h's kernel on vectors where every lane is in its range: the same doubles
+// as the scalar kernel (and libm's beyond the range: 709, -745, NaN) in all four rounding modes,
+// with both instruction sets.
+TEST(BatchPointEval, ExpMatchesTheScalarKernelInEveryRoundingMode) {
+  // Most batches have every lane in the kernel's range; those with one of the first arguments
+  // (709.7, -745, ...) or NaN take libm's path.
+  std::vector<double> xs = exp_arguments();
+  xs.push_back(std::numeric_limits<double>::quiet_NaN());
+  xs.push_back(-Interval::kInf);
+  const int modes[] = {FE_TONEAREST, FE_UPWARD, FE_DOWNWARD, FE_TOWARDZERO};
+  for (const char* e : {"exp(x)", "exp(x) * y", "exp(x) - exp(y) * exp(-z)"}) {
+    const Tape tape = Tape::parse(e);
+    BatchPointEvalK<16> be(tape);
+    PointEval pe(tape);
+    for (int baseline = 0; baseline < 2; ++baseline) {
+      be.use_baseline(baseline != 0);
+      for (const int mode : modes) {
+        const int saved = std::fegetround();
+        std::fesetround(mode);
+        for (std::size_t i = 0; i + 16 <= xs.size(); i += 16) {
+          Vec3 p[16];
+          for (std::size_t j = 0; j < 16; ++j) {
+            p[j] = {xs[i + j], xs[(i + j * 7) % xs.size()], xs[(i + j * 13) % xs.size()] / 4};
           }
           double out[16];
           be.eval(p, 16, out);
