@@ -643,15 +643,10 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
   // hull over coarser pieces often decides already, and the halves of a piece that excludes 0
   // are never evaluated.
   const DirCone dc(s.dirs);
-  const auto estimate = [&](const IBox& box, bool* partial, bool* may_hit) {
-    const IGrad g = ctx.eval_grad(box, partial);
-    *may_hit = g.v.contains_zero();
-    return unit_dot(g, dc);
-  };
   if (pieces <= 1) {
-    bool partial = false, may_hit = false;
-    const Interval u = estimate(s.hit_box, &partial, &may_hit);
-    return partial ? Interval::whole() : u;
+    bool partial = false;
+    const IGrad g = ctx.eval_grad(s.hit_box, &partial);
+    return partial ? Interval::whole() : unit_dot(g, dc);
   }
   constexpr int kMaxPieces = 64;
   struct Piece {
@@ -671,6 +666,15 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
   };
   push_halves({s.t_near, s.t_far});
   const int most = std::min(pieces, kMaxPieces);
+  // The pieces of a level are evaluated in groups, front to back: up to the batch's lanes in one
+  // pass where the context has the gradient batch (the intervals one at a time gives, but for the
+  // signs of zero bounds of partials on tapes with min or max, which unit_dot does not tell
+  // apart), else one by one. A group may evaluate a few pieces past the point where the level's
+  // decision is made; they are counted and their results dropped, so the estimate is the one of
+  // the pieces in order.
+  constexpr int kGroup = BatchIntervalGradEvalK<4>::kLanes;
+  IGrad g[kGroup];
+  bool partial[kGroup];
   for (int width = 2;; width *= 2) {
     // Evaluate this level front to back until the hull is too wide; what is left (and the kept
     // pieces) is halved for the next level.
@@ -678,23 +682,38 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
     int m = 0;
     bool decided_wide = false;
     const bool finer = 2 * width <= most;
-    for (int k = 0; k < n; ++k) {
-      const Piece p = cur[k];
-      if (decided_wide) {
-        next[m++] = p;  // not evaluated at this level
-        continue;
+    for (int k0 = 0; k0 < n; k0 += kGroup) {
+      const int count = std::min(kGroup, n - k0);
+      if (!decided_wide) {
+        IBox boxes[kGroup];
+        for (int j = 0; j < count; ++j) {
+          boxes[j] =
+              segment_box(ctx.setup.frame.eye, s.dirs, Interval(cur[k0 + j].t0, cur[k0 + j].t1));
+        }
+        if (count >= 2 && ctx.batch_grad) {
+          ctx.evals += static_cast<std::uint64_t>(count);
+          ctx.batch_grad->eval(boxes, count, g);
+          for (int j = 0; j < count; ++j) partial[j] = ctx.batch_grad->partial_domain(j);
+        } else {
+          for (int j = 0; j < count; ++j) g[j] = ctx.eval_grad(boxes[j], &partial[j]);
+        }
       }
-      bool partial = false, may_hit = false;
-      const Interval u = estimate(segment_box(ctx.setup.frame.eye, s.dirs, Interval(p.t0, p.t1)),
-                                  &partial, &may_hit);
-      if (partial) return Interval::whole();
-      if (!may_hit) continue;
-      out = out.is_empty() ? u : hull(out, u);
-      next[m++] = p;
-      // The hull only grows: the decision at this level is made.
-      if (out.width() > stop_above) {
-        if (!finer) return out;
-        decided_wide = true;
+      for (int j = 0; j < count; ++j) {
+        const Piece p = cur[k0 + j];
+        if (decided_wide) {
+          next[m++] = p;  // not needed at this level
+          continue;
+        }
+        if (partial[j]) return Interval::whole();
+        if (!g[j].v.contains_zero()) continue;
+        const Interval u = unit_dot(g[j], dc);
+        out = out.is_empty() ? u : hull(out, u);
+        next[m++] = p;
+        // The hull only grows: the decision at this level is made.
+        if (out.width() > stop_above) {
+          if (!finer) return out;
+          decided_wide = true;
+        }
       }
     }
     if (!decided_wide) return out.is_empty() ? Interval::whole() : out;
