@@ -196,6 +196,8 @@ double lane_by_lane_share(const Tape& tape) {
       case Op::kNeg:
       case Op::kSquare:
       case Op::kPowInt:
+      case Op::kMin:
+      case Op::kMax:
       case Op::kExp:
       case Op::kSin:
       case Op::kCos:

@@ -77,9 +77,36 @@ IAA_ALWAYS_INLINE void BatchIntervalGradEvalK<K>::run_impl(int n) {
     if (in.op == Op::kPairedCos) continue;  // written by the sincos before it
     switch (in.op) {
       default:
-        // div, sqrt, log, tan, atan, abs, min, max, the real power: the scalar rules in each
-        // lane.
+        // div, sqrt, log, tan, atan, abs, the real power: the scalar rules in each lane.
         bad = L::all();
+        break;
+      case Op::kMin:
+      case Op::kMax:
+        // IntervalGradRules::min and max: the argument certainly taken whole (ties to the first,
+        // min_choice and max_choice), else iaa::min or max of the values and the hulls of the
+        // partials. An empty value or partial (hulls makes that whole) is bad.
+        for (int c = 0; c < K; c += W) {
+          const I x = ld(a[0], c), y = ld(b[0], c);
+          bad |= ~(x.lo <= x.hi) | ~(y.lo <= y.hi);
+          const bool is_min = in.op == Op::kMin;
+          const M first = is_min ? (x.hi <= y.lo) : (x.lo >= y.hi);
+          const M second = ~first & (is_min ? (y.hi < x.lo) : (y.lo > x.hi));
+          const auto pick = [&](const I& u, const I& v, const I& both)
+              __attribute__((always_inline)) {
+            return I{first ? u.lo : (second ? v.lo : both.lo),
+                     first ? u.hi : (second ? v.hi : both.hi)};
+          };
+          st(o[0], c,
+             pick(x, y,
+                  is_min ? I{L::min(x.lo, y.lo), L::min(x.hi, y.hi)}
+                         : I{L::max(x.lo, y.lo), L::max(x.hi, y.hi)}));
+          for (int d = 1; d <= 3; ++d) {
+            if (!(m & (1u << (d - 1)))) continue;
+            const I u = ld(a[d], c), v = ld(b[d], c);
+            bad |= ~(u.lo <= u.hi) | ~(v.lo <= v.hi);
+            st(o[d], c, pick(u, v, I{L::min(u.lo, v.lo), L::max(u.hi, v.hi)}));
+          }
+        }
         break;
       case Op::kExp:
         // (e, a' * e), e = exp a (IntervalGradRules::exp).

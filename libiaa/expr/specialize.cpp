@@ -62,6 +62,50 @@ SpecializingEval::Variant& SpecializingEval::variant_for(const IBox& b) {
   return *variants_[0];
 }
 
+SpecializingEval::Variant& SpecializingEval::variant_for(const IBox* boxes, int n) {
+  for (int j = 0; j < n; ++j) {
+    if (boxes[j].is_empty()) return *variants_[0];
+  }
+  for (const Region& r : regions_) {
+    if (r.variant < 0) break;
+    bool all = true;
+    for (int j = 0; j < n && all; ++j) all = r.box.contains(boxes[j]);
+    if (all) {
+      specialized_evals_ += static_cast<std::uint64_t>(n);
+      return *variants_[static_cast<std::size_t>(r.variant)];
+    }
+  }
+  return *variants_[0];
+}
+
+void SpecializingEval::eval_batch(const IBox* boxes, int n, Interval* out, bool* partial) {
+  Variant& v = variant_for(boxes, n);
+  if (!v.be) {
+    v.be = std::make_unique<BatchIntervalEvalK<kBatch>>(*v.tape);
+    v.be->use_baseline(baseline_);
+  }
+  v.be->eval(boxes, n, out);
+  for (int j = 0; j < n; ++j) partial[j] = v.be->partial_domain(j);
+}
+
+void SpecializingEval::eval_grad_batch(const IBox* boxes, int n, IGrad* out, bool* partial) {
+  Variant& v = variant_for(boxes, n);
+  if (!v.bg) {
+    v.bg = std::make_unique<BatchIntervalGradEvalK<kBatch>>(*v.tape);
+    v.bg->use_baseline(baseline_);
+  }
+  v.bg->eval(boxes, n, out);
+  for (int j = 0; j < n; ++j) partial[j] = v.bg->partial_domain(j);
+}
+
+void SpecializingEval::use_baseline(bool baseline) {
+  baseline_ = baseline;
+  for (auto& v : variants_) {
+    if (v->be) v->be->use_baseline(baseline);
+    if (v->bg) v->bg->use_baseline(baseline);
+  }
+}
+
 SpecializingEval::Variant& SpecializingEval::variant_at(const Vec3& p) {
   for (const Region& r : regions_) {
     if (r.variant < 0) break;

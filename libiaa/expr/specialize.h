@@ -26,6 +26,8 @@
 #include <vector>
 
 #include "core/vec.h"
+#include "expr/eval_batch.h"
+#include "expr/eval_batch_grad.h"
 #include "expr/eval_interval.h"
 #include "expr/eval_interval_grad.h"
 #include "expr/eval_point.h"
@@ -49,6 +51,21 @@ class SpecializingEval {
   /// True when the last interval evaluation met a partial domain or a pole
   /// (IntervalEval::partial_domain).
   bool partial_domain() const { return partial_; }
+
+  /// The most boxes of one batched evaluation.
+  static constexpr int kBatch = 4;
+  /// F over boxes[0..n), 1 <= n <= kBatch, in one pass of a batched evaluator
+  /// (BatchIntervalEvalK), with the specialized tape of the newest region that holds every box
+  /// (the whole tape when none does): for each box the interval eval() gives, and in partial[j]
+  /// its partial_domain(). Makes no region (the batch records no choices). Worth it where
+  /// few of the tape's operations run lane by lane (lane_by_lane_share).
+  void eval_batch(const IBox* boxes, int n, Interval* out, bool* partial);
+  /// F and its gradient over boxes[0..n) the same way (BatchIntervalGradEvalK): what eval_grad()
+  /// gives each box, but for the signs of zero bounds of partial derivatives (see the top of
+  /// this file).
+  void eval_grad_batch(const IBox* boxes, int n, IGrad* out, bool* partial);
+  /// Runs the batched evaluators' baseline (SSE2) code even where AVX2 is there (tests).
+  void use_baseline(bool baseline);
   /// f and its gradient at a point: the same as PointEval and PointGradEval over the whole tape
   /// but where a left-out branch overflows or is NaN at that point (see the top of this file);
   /// a point inside a region takes the region's tape; points make no regions.
@@ -80,6 +97,9 @@ class SpecializingEval {
     IntervalGradEval ig;
     PointEval pe;
     PointGradEval pg;
+    /// The batched evaluators of `tape`, made on first use.
+    std::unique_ptr<BatchIntervalEvalK<kBatch>> be;
+    std::unique_ptr<BatchIntervalGradEvalK<kBatch>> bg;
     Variant(std::vector<std::uint8_t> k, std::unique_ptr<Tape> t, std::vector<std::int32_t> o);
   };
   struct Region {
@@ -91,6 +111,8 @@ class SpecializingEval {
   Variant& variant_for(const IBox& b);
   /// The same for a point.
   Variant& variant_at(const Vec3& p);
+  /// The variant of the newest region that contains every box of boxes[0..n).
+  Variant& variant_for(const IBox* boxes, int n);
   /// After an evaluation of `b` with `v`: when it decided more min/max, remembers `b` as a region
   /// with the tape specialized by everything decided.
   void learn(const IBox& b, const Variant& v, const std::vector<std::uint8_t>& choices);
@@ -100,6 +122,7 @@ class SpecializingEval {
   std::array<Region, kRegions> regions_{};
   std::vector<std::uint8_t> key_;  ///< scratch for learn()
   bool partial_ = false;
+  bool baseline_ = false;  ///< the batches run their baseline code
   std::uint64_t specialized_evals_ = 0;
 };
 

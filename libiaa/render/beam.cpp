@@ -344,35 +344,37 @@ class DepthSearch {
   }
 
   /// Evaluates the boxes `box_of(lane)` of the lanes which[0..k), each counted as one evaluation
-  /// of its beam: in one pass of `batch` for two or more (where the context has it, the same
-  /// intervals as one at a time), else with `one` (an evaluation through ctx_.se). Hands each
-  /// lane its result and partial-domain flag: `done(lane, result, partial)`.
-  template <class Batch, class BoxOf, class One, class Done>
-  void evaluate(const int* which, int k, std::optional<Batch>& batch, BoxOf box_of, One one,
-                Done done) {
+  /// of its beam: in one pass of the context's batch, `many(boxes, k, results, partials)`, for
+  /// two or more where the context has it (the same intervals as one at a time), else with `one`
+  /// (an evaluation through ctx_.se). Hands each lane its result and partial-domain flag:
+  /// `done(lane, result, partial)`.
+  template <class BoxOf, class One, class Many, class Done>
+  void evaluate(const int* which, int k, BoxOf box_of, One one, Many many, Done done) {
     if (k == 0) return;
-    ctx_.evals += static_cast<std::uint64_t>(k);
     for (int j = 0; j < k; ++j) ++lanes_[which[j]].out->evals;
-    if (k >= 2 && batch) {
-      using Result = decltype(one(std::declval<const IBox&>()));
+    if (k >= 2 && ctx_.batched) {
+      using Result = decltype(one(std::declval<const IBox&>(), std::declval<bool*>()));
       IBox boxes[kMost];
       Result r[kMost];
+      bool partial[kMost];
       for (int j = 0; j < k; ++j) boxes[j] = box_of(lanes_[which[j]]);
-      batch->eval(boxes, k, r);
-      for (int j = 0; j < k; ++j) done(lanes_[which[j]], r[j], batch->partial_domain(j));
+      many(boxes, k, r, partial);
+      for (int j = 0; j < k; ++j) done(lanes_[which[j]], r[j], partial[j]);
       return;
     }
     for (int j = 0; j < k; ++j) {
       Lane& l = lanes_[which[j]];
-      const auto r = one(box_of(l));
-      done(l, r, ctx_.se.partial_domain());
+      bool partial = false;
+      const auto r = one(box_of(l), &partial);
+      done(l, r, partial);
     }
   }
   /// F over the lanes' pieces: their natural enclosures (into f, the flags into partial).
   void naturals(const int* which, int k) {
     evaluate(
-        which, k, ctx_.batch, [](const Lane& l) -> const IBox& { return l.box; },
-        [&](const IBox& b) { return ctx_.se.eval(b); },
+        which, k, [](const Lane& l) -> const IBox& { return l.box; },
+        [&](const IBox& b, bool* p) { return ctx_.eval(b, p); },
+        [&](const IBox* b, int n, Interval* r, bool* p) { ctx_.eval_batch(b, n, r, p); },
         [](Lane& l, const Interval& f, bool partial) {
           l.f = f;
           l.partial = partial;
@@ -381,15 +383,17 @@ class DepthSearch {
   /// F over the points of the lanes' mean-value forms (into fc).
   void points(const int* which, int k) {
     evaluate(
-        which, k, ctx_.batch, [](const Lane& l) -> const IBox& { return l.mvf.c; },
-        [&](const IBox& b) { return ctx_.se.eval(b); },
+        which, k, [](const Lane& l) -> const IBox& { return l.mvf.c; },
+        [&](const IBox& b, bool* p) { return ctx_.eval(b, p); },
+        [&](const IBox* b, int n, Interval* r, bool* p) { ctx_.eval_batch(b, n, r, p); },
         [](Lane& l, const Interval& f, bool) { l.fc = f; });
   }
   /// F and its gradient over the lanes' pieces into g, the partial-domain flag into .*partial.
   void grads(const int* which, int k, bool Lane::*partial) {
     evaluate(
-        which, k, ctx_.batch_grad, [](const Lane& l) -> const IBox& { return l.box; },
-        [&](const IBox& b) { return ctx_.se.eval_grad(b); },
+        which, k, [](const Lane& l) -> const IBox& { return l.box; },
+        [&](const IBox& b, bool* p) { return ctx_.eval_grad(b, p); },
+        [&](const IBox* b, int n, IGrad* r, bool* p) { ctx_.eval_grad_batch(b, n, r, p); },
         [partial](Lane& l, const IGrad& g, bool p) {
           l.g = g;
           l.*partial = p;
@@ -672,7 +676,7 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
   // apart), else one by one. A group may evaluate a few pieces past the point where the level's
   // decision is made; they are counted and their results dropped, so the estimate is the one of
   // the pieces in order.
-  constexpr int kGroup = BatchIntervalGradEvalK<4>::kLanes;
+  constexpr int kGroup = SpecializingEval::kBatch;
   IGrad g[kGroup];
   bool partial[kGroup];
   for (int width = 2;; width *= 2) {
@@ -690,10 +694,8 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
           boxes[j] =
               segment_box(ctx.setup.frame.eye, s.dirs, Interval(cur[k0 + j].t0, cur[k0 + j].t1));
         }
-        if (count >= 2 && ctx.batch_grad) {
-          ctx.evals += static_cast<std::uint64_t>(count);
-          ctx.batch_grad->eval(boxes, count, g);
-          for (int j = 0; j < count; ++j) partial[j] = ctx.batch_grad->partial_domain(j);
+        if (count >= 2 && ctx.batched) {
+          ctx.eval_grad_batch(boxes, count, g, partial);
         } else {
           for (int j = 0; j < count; ++j) g[j] = ctx.eval_grad(boxes[j], &partial[j]);
         }

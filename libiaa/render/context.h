@@ -36,12 +36,12 @@ struct RenderContext {
   SpecializingEval se;      ///< every evaluation of f, with min/max branches pruned by regions
   std::uint64_t evals = 0;  ///< interval evaluations so far (both interval modes)
   MeanValueBudget mv;       ///< of the current screen block or pixel
-  /// Four boxes per pass (the depth pieces of sibling beams searched side by side, beam.h):
-  /// the intervals `se` gives, where at most a quarter of the tape's operations run lane by
-  /// lane (blobby's exp, 0.14 of its operations: 0.91x the CPU time batched; the gyroid's sin
-  /// and cos, 0.375, were 1.17x before they ran in vectors).
-  std::optional<BatchIntervalEvalK<4>> batch;
-  std::optional<BatchIntervalGradEvalK<4>> batch_grad;
+  /// Whether the batched interval evaluators serve this tape (eval_batch, eval_grad_batch): four
+  /// boxes per pass (the depth pieces of sibling beams searched side by side, beam.h; the
+  /// estimator's pieces; the pieces of a shadow ray), where at most a quarter of the tape's
+  /// operations run lane by lane (the gyroid's sin and cos, 0.375 of its operations, were 1.17x
+  /// the CPU time batched before they ran in vectors).
+  bool batched = false;
   /// Sixteen points per pass (the coverage rays of a Partial part marched side by side, a few
   /// steps of each), where at most a quarter of the tape's operations run lane by lane there
   /// (sin and cos do not: the gyroid has it): the whole tape's values, which are `se`'s but
@@ -51,13 +51,7 @@ struct RenderContext {
 
   explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {
     const Tape& tape = *s.scene->tape;
-    // With min or max, `se` evaluates specialized tapes, which give the whole tape's intervals
-    // (specialize.h; only a zero bound of a partial derivative may differ in sign, which no test
-    // of the renderer tells apart), so the interval batches run the whole tape beside it.
-    if (lane_by_lane_share(tape) <= 0.25) {
-      batch.emplace(tape);
-      batch_grad.emplace(tape);
-    }
+    batched = lane_by_lane_share(tape) <= 0.25;
     if (point_lane_by_lane_share(tape) <= 0.25) batch_point.emplace(tape);
   }
 
@@ -74,6 +68,20 @@ struct RenderContext {
     const IGrad g = se.eval_grad(b);
     if (partial) *partial = se.partial_domain();
     return g;
+  }
+  /// F over boxes[0..n), 1 <= n <= 4, in one pass of `se`'s batch (the interval eval() gives
+  /// each box; with min or max, the tape of a region that holds them all), counted; the
+  /// partial-domain flags into partial[0..n). Only where `batched`.
+  void eval_batch(const IBox* boxes, int n, Interval* out, bool* partial) {
+    evals += static_cast<std::uint64_t>(n);
+    se.eval_batch(boxes, n, out, partial);
+  }
+  /// F and its gradient over boxes[0..n) the same way (eval_grad()'s, but for the signs of zero
+  /// bounds of partial derivatives on tapes with min or max, which no test of the renderer tells
+  /// apart).
+  void eval_grad_batch(const IBox* boxes, int n, IGrad* out, bool* partial) {
+    evals += static_cast<std::uint64_t>(n);
+    se.eval_grad_batch(boxes, n, out, partial);
   }
   const Box3& bounds() const { return setup.scene->bounds; }
 };

@@ -257,7 +257,7 @@ class IaaPixel {
     // per pass of the batched evaluators (where the tape has them). A Full parent's children
     // mostly take its proof without a search of their own (inherited_leaf, inherit_full).
     FirstPiece firsts[4];
-    const bool together = !pf && ctx_.batch;
+    const bool together = !pf && ctx_.batched;
     if (together) first_pieces(ctx_, kids, 4, sub, tr_ != nullptr, firsts);
     for (int k = 0; k < 4; ++k)
       beam(kids[k], level + 1, sub, pf, index, together ? &firsts[k] : nullptr);

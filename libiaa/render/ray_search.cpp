@@ -47,6 +47,74 @@ void certify(RenderContext& ctx, const Vec3& o, const IBox& dir, const Interval&
   }
 }
 
+/// A PieceStack whose pieces carry F over their boxes (the segment's pieces clipped to the
+/// bounds), evaluated ahead: when the top piece has none yet, it and the next pieces below it
+/// without one, up to kAhead, are evaluated in one call of the caller's `eval(boxes, k, out)`.
+/// A piece whose clipped box is empty gets the empty interval without an evaluation, as the
+/// searches one piece at a time skip it. Pushed pieces have no value until evaluated; a piece
+/// evaluated ahead keeps its value under the pieces pushed above it.
+class EvaluatedPieceStack {
+ public:
+  static constexpr int kCapacity = PieceStack::kCapacity;
+  static constexpr int kAhead = SpecializingEval::kBatch;
+
+  EvaluatedPieceStack(const Vec3& o, const IBox& dir, const Box3& bounds)
+      : o_(o), dir_(dir), bounds_(bounds) {}
+
+  /// False when full: the caller must then treat the piece conservatively (keep it).
+  bool push(double a, double b) {
+    if (n_ == kCapacity) return false;
+    a_[n_] = a;
+    b_[n_] = b;
+    done_[n_] = false;
+    ++n_;
+    return true;
+  }
+  bool has_room(int k) const { return n_ + k <= kCapacity; }
+  /// The top piece [a, b] and F over its box.
+  template <class Eval>
+  bool pop(double* a, double* b, Interval* f, Eval eval) {
+    if (n_ == 0) return false;
+    if (!done_[n_ - 1]) evaluate_ahead(eval);
+    --n_;
+    *a = a_[n_];
+    *b = b_[n_];
+    *f = f_[n_];
+    return true;
+  }
+
+ private:
+  template <class Eval>
+  void evaluate_ahead(Eval eval) {
+    IBox boxes[kAhead];
+    int which[kAhead];
+    int k = 0;
+    for (int i = n_ - 1; i >= 0 && k < kAhead; --i) {
+      if (done_[i]) continue;
+      done_[i] = true;
+      boxes[k] = clip_box(segment_box(o_, dir_, Interval(a_[i], b_[i])), bounds_);
+      if (boxes[k].is_empty()) {
+        f_[i] = Interval::empty();
+      } else {
+        which[k++] = i;
+      }
+    }
+    Interval out[kAhead];
+    if (k > 0) eval(boxes, k, out);
+    for (int j = 0; j < k; ++j) f_[which[j]] = out[j];
+  }
+
+  const Vec3& o_;
+  const IBox& dir_;
+  const Box3& bounds_;
+  // Left uninitialised, as PieceStack's (only entries below n_ are read).
+  double a_[kCapacity];
+  double b_[kCapacity];
+  Interval f_[kCapacity];
+  bool done_[kCapacity];
+  int n_ = 0;
+};
+
 }  // namespace
 
 RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol,
@@ -133,7 +201,10 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
 bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol,
                      double first, double* at, double* narrowest, double from) {
   if (range.is_empty()) return false;
-  PieceStack st;
+  // F over each piece is evaluated ahead, up to four pieces per pass of the batched evaluator,
+  // in the order they are popped (EvaluatedPieceStack): the pieces and their enclosures are the
+  // ones of a search one piece at a time, only some evaluations past a hit are spent in vain.
+  EvaluatedPieceStack st(o, dir, ctx.bounds());
   // Pieces of width first, first, 2 first, 4 first, ... from the front (each after the first as
   // wide as all before it), pushed back to front: each is excluded with one evaluation where
   // bisection of the whole range would spend two per level on the way down to the front.
@@ -149,10 +220,15 @@ bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interva
   ends[n++] = range.hi();
   for (int k = n - 1; k > 0; --k) st.push(ends[k - 1], ends[k]);
   double a = 0, b = 0;
-  while (st.pop(&a, &b)) {
-    const IBox box = clip_box(segment_box(o, dir, Interval(a, b)), ctx.bounds());
-    if (box.is_empty()) continue;
-    const Interval f = ctx.eval(box);
+  Interval f;
+  while (st.pop(&a, &b, &f, [&](const IBox* boxes, int k, Interval* out) {
+    if (k >= 2 && ctx.batched) {
+      bool partial[EvaluatedPieceStack::kAhead];
+      ctx.eval_batch(boxes, k, out, partial);
+    } else {
+      for (int j = 0; j < k; ++j) out[j] = ctx.eval(boxes[j]);
+    }
+  })) {
     if (f.is_empty() || !f.contains_zero()) continue;
     if (narrowest && a >= from) *narrowest = std::min(*narrowest, b - a);
     const double m = 0.5 * (a + b);

@@ -130,7 +130,7 @@ struct BlockTask {
     MeanValueBudget budgets[4] = {after, after, after, after};
     const bool pixels = h < kMinBlock;
     const bool together =
-        ctx.batch && n >= 2 &&
+        ctx.batched && n >= 2 &&
         (!pixels || (!kid_full && ctx.setup.settings.method == RenderMethod::kIaa));
     if (together) {
       PixelRect rects[4];

@@ -96,6 +96,55 @@ TEST(Specialize, SameResultsAsTheWholeTapeOnNestedBoxes) {
   EXPECT_GT(specialized, compared / 10);
 }
 
+// The batches evaluate up to kBatch boxes with the tape of a region that holds them all: each
+// box's result is the whole tape's (values and flags as IntervalEval's, gradients as
+// IntervalGradEval's up to the signs of zeros), with the SSE2 and the AVX2 code.
+TEST(Specialize, BatchesGiveTheWholeTapesResultsOnNestedBoxes) {
+  iaa::testing::RandomExpr gen(20261204);
+  std::uint64_t compared = 0, specialized = 0;
+  RoundingScope scope;
+  for (int e = 0; e < 1500; ++e) {
+    const std::string text = std::string(gen.pick(2) ? "min(" : "max(") + gen.make(3) + ", " +
+                             gen.make(3) + ") + " + gen.make(2);
+    if (!gen.parses(text)) continue;
+    const Tape t = Tape::parse(text);
+    IntervalEval ie(t);
+    IntervalGradEval ig(t);
+    SpecializingEval se(t);
+    se.use_baseline(e % 2 == 1);
+    for (int chain = 0; chain < 3; ++chain) {
+      IBox box = gen.box();
+      for (int level = 0; level < 6; ++level) {
+        se.eval(box);  // makes the regions the batches then find
+        const int n = 1 + gen.pick(SpecializingEval::kBatch);
+        IBox boxes[SpecializingEval::kBatch];
+        // Mostly boxes inside the region, now and then one elsewhere (the whole tape then).
+        for (int j = 0; j < n; ++j) boxes[j] = gen.pick(4) == 0 ? gen.box() : sub_box(gen, box);
+        const std::uint64_t s0 = se.specialized_evals();
+        Interval f[SpecializingEval::kBatch];
+        IGrad g[SpecializingEval::kBatch];
+        bool pf[SpecializingEval::kBatch], pg[SpecializingEval::kBatch];
+        se.eval_batch(boxes, n, f, pf);
+        se.eval_grad_batch(boxes, n, g, pg);
+        specialized += se.specialized_evals() - s0;
+        for (int j = 0; j < n; ++j) {
+          ASSERT_TRUE(same(ie.eval(boxes[j]), f[j])) << text;
+          ASSERT_EQ(ie.partial_domain(), pf[j]) << text;
+          const IGrad want = ig.eval(boxes[j]);
+          ASSERT_TRUE(same(want.v, g[j].v)) << text;
+          for (std::size_t i = 0; i < 3; ++i) ASSERT_TRUE(same(want.g[i], g[j].g[i])) << text;
+          ASSERT_EQ(ig.partial_domain(), pg[j]) << text;
+          ++compared;
+        }
+        box = sub_box(gen, box);
+      }
+    }
+  }
+  // The batches have to reach the specialized tapes to mean anything.
+  EXPECT_GT(compared, 10000u);
+  EXPECT_GT(specialized, compared / 10);
+}
+
 TEST(Specialize, TwistBladePrunesTheOtherBlade) {
   // The twist scene: min of two crossed blades. Near blade A, far from the axis, B is far larger.
   const Tape t = Tape::parse(

@@ -296,7 +296,7 @@ TEST(EvalRaySet, SiblingsSearchedTogetherFindWhatEachFindsAlone) {
     const RenderSetup setup(s, RenderSettings{});
     RoundingScope scope;
     RenderContext ctx(setup);
-    ASSERT_TRUE(ctx.batch.has_value()) << name;
+    ASSERT_TRUE(ctx.batched) << name;
     std::uniform_real_distribution<double> U(0.0, 1.0);
     for (int trial = 0; trial < 40; ++trial) {
       const double w = std::ldexp(1.0, static_cast<int>(U(rng) * 8) - 3);  // 1/8 to 16 pixels
@@ -318,8 +318,7 @@ TEST(EvalRaySet, SiblingsSearchedTogetherFindWhatEachFindsAlone) {
       }
       EXPECT_EQ(start.gradient_first(MeanValueBudget::kPiece), kind == 1);
       EXPECT_EQ(start.allowed(), kind != 2);
-      ctx.batch->use_baseline(trial % 2 == 1);
-      ctx.batch_grad->use_baseline(trial % 2 == 1);
+      ctx.se.use_baseline(trial % 2 == 1);
       MeanValueBudget budgets[4] = {start, start, start, start};
       FirstPiece together[4];
       first_pieces(ctx, kids, n, range, true, together, budgets);
