@@ -63,6 +63,7 @@ SpecializingEval::Variant& SpecializingEval::variant_for(const IBox& b) {
 }
 
 SpecializingEval::Variant& SpecializingEval::variant_for(const IBox* boxes, int n) {
+  if (regions_[0].variant < 0) return *variants_[0];  // no region yet (or no min/max at all)
   for (int j = 0; j < n; ++j) {
     if (boxes[j].is_empty()) return *variants_[0];
   }

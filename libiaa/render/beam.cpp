@@ -74,8 +74,8 @@ struct PieceMeanValue {
       for (int i = 0; i < 3; ++i) c[i] = Interval(box[i].mid());
     }
   }
-  Interval form(const Interval& fc, const IBox& box, const IGrad& g, const IBox& dirs,
-                const Interval& t) const {
+  [[gnu::noinline]] Interval form(const Interval& fc, const IBox& box, const IGrad& g,
+                                  const IBox& dirs, const Interval& t) const {
     if (!rayed) {
       Interval f = fc;
       for (int i = 0; i < 3; ++i) f += g.g[static_cast<std::size_t>(i)] * (box[i] - c[i]);
