@@ -79,24 +79,29 @@ SpecializingEval::Variant& SpecializingEval::variant_for(const IBox* boxes, int 
   return *variants_[0];
 }
 
+namespace {
+/// Runs `batch` (made from `tape` on first use, with the batches' instruction set) over the
+/// boxes, and reads its partial-domain flags.
+template <class Batch, class Out>
+void run_batch(std::unique_ptr<Batch>& batch, const Tape& tape, bool baseline, const IBox* boxes,
+               int n, Out* out, bool* partial) {
+  if (!batch) {
+    batch = std::make_unique<Batch>(tape);
+    batch->use_baseline(baseline);
+  }
+  batch->eval(boxes, n, out);
+  for (int j = 0; j < n; ++j) partial[j] = batch->partial_domain(j);
+}
+}  // namespace
+
 void SpecializingEval::eval_batch(const IBox* boxes, int n, Interval* out, bool* partial) {
   Variant& v = variant_for(boxes, n);
-  if (!v.be) {
-    v.be = std::make_unique<BatchIntervalEvalK<kBatch>>(*v.tape);
-    v.be->use_baseline(baseline_);
-  }
-  v.be->eval(boxes, n, out);
-  for (int j = 0; j < n; ++j) partial[j] = v.be->partial_domain(j);
+  run_batch(v.be, *v.tape, baseline_, boxes, n, out, partial);
 }
 
 void SpecializingEval::eval_grad_batch(const IBox* boxes, int n, IGrad* out, bool* partial) {
   Variant& v = variant_for(boxes, n);
-  if (!v.bg) {
-    v.bg = std::make_unique<BatchIntervalGradEvalK<kBatch>>(*v.tape);
-    v.bg->use_baseline(baseline_);
-  }
-  v.bg->eval(boxes, n, out);
-  for (int j = 0; j < n; ++j) partial[j] = v.bg->partial_domain(j);
+  run_batch(v.bg, *v.tape, baseline_, boxes, n, out, partial);
 }
 
 void SpecializingEval::use_baseline(bool baseline) {

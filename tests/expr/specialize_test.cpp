@@ -49,14 +49,18 @@ IBox sub_box(iaa::testing::RandomExpr& gen, const IBox& b) {
   return out;
 }
 
+/// A random expression with a min or max at the top, usually more inside.
+std::string min_max_expression(iaa::testing::RandomExpr& gen) {
+  return std::string(gen.pick(2) ? "min(" : "max(") + gen.make(3) + ", " + gen.make(3) + ") + " +
+         gen.make(2);
+}
+
 TEST(Specialize, SameResultsAsTheWholeTapeOnNestedBoxes) {
   iaa::testing::RandomExpr gen(20261201);
   std::uint64_t specialized = 0, compared = 0;
   RoundingScope scope;
   for (int e = 0; e < 3000; ++e) {
-    // At least one min or max at the top, usually more inside.
-    const std::string text = std::string(gen.pick(2) ? "min(" : "max(") + gen.make(3) + ", " +
-                             gen.make(3) + ") + " + gen.make(2);
+    const std::string text = min_max_expression(gen);
     if (!gen.parses(text)) continue;
     const Tape t = Tape::parse(text);
     IntervalEval ie(t);
@@ -104,8 +108,7 @@ TEST(Specialize, BatchesGiveTheWholeTapesResultsOnNestedBoxes) {
   std::uint64_t compared = 0, specialized = 0;
   RoundingScope scope;
   for (int e = 0; e < 1500; ++e) {
-    const std::string text = std::string(gen.pick(2) ? "min(" : "max(") + gen.make(3) + ", " +
-                             gen.make(3) + ") + " + gen.make(2);
+    const std::string text = min_max_expression(gen);
     if (!gen.parses(text)) continue;
     const Tape t = Tape::parse(text);
     IntervalEval ie(t);
