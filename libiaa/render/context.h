@@ -48,11 +48,17 @@ struct RenderContext {
   /// where a branch that `se` dropped overflows at the point (specialize.h; they shade, they
   /// certify nothing).
   std::optional<BatchPointEvalK<16>> batch_point;
+  /// Four points per pass (the steps of a Full part's shading march, kernel_iaa.cpp), on the
+  /// same tapes as batch_point.
+  std::optional<BatchPointEvalK<4>> batch_point4;
 
   explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {
     const Tape& tape = *s.scene->tape;
     batched = lane_by_lane_share(tape) <= 0.25;
-    if (point_lane_by_lane_share(tape) <= 0.25) batch_point.emplace(tape);
+    if (point_lane_by_lane_share(tape) <= 0.25) {
+      batch_point.emplace(tape);
+      batch_point4.emplace(tape);
+    }
   }
 
   /// F over a box, counted. `partial` receives partial_domain().
