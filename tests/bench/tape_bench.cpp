@@ -1,6 +1,7 @@
 // Google Benchmark micro-benchmarks of the interval core and the tape evaluators (the same
 // figures as `iaa bench tape`, on the chubs scene of data/scenes, in Google Benchmark's format for
-// comparisons across commits:
+// comparisons across commits; the Blobby ones on the blobby scene, whose operations are mostly
+// exp's and squares, for the exp kernels in the scalar and the batched evaluators):
 //   build/bin/iaa_gbench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
@@ -26,6 +27,12 @@ const Scene& chubs() {
   return scene;
 }
 
+/// The blobby scene of the source tree, read once.
+const Scene& blobby() {
+  static const Scene scene = test::bundled_scene("blobby");
+  return scene;
+}
+
 /// n points drawn uniformly in the box b, the same in every run.
 std::vector<Vec3> points(const Box3& b, int n) {
   std::mt19937_64 rng(1);
@@ -37,10 +44,10 @@ std::vector<Vec3> points(const Box3& b, int n) {
 
 // Runs `eval_one(evaluator, point)` over 1024 points per iteration and reports ns per tape op.
 template <class Eval, class F>
-void run_tape(benchmark::State& state, F eval_one) {
-  const Tape& t = *chubs().tape;
+void run_tape(benchmark::State& state, F eval_one, const Scene& scene = chubs()) {
+  const Tape& t = *scene.tape;
   Eval e(t);
-  const auto pts = points(chubs().bounds, 1024);
+  const auto pts = points(scene.bounds, 1024);
   RoundingScope scope;  // point evaluation rounds upward here too; speed is the same
   for (auto _ : state) {
     for (const Vec3& p : pts) benchmark::DoNotOptimize(eval_one(e, p));
@@ -65,14 +72,14 @@ void BM_IntervalEval(benchmark::State& state) {
 BENCHMARK(BM_IntervalEval);
 
 // The batched interval evaluator on the same boxes, K per pass; ns per operation per box.
-/// A batched evaluator over 1024 boxes of the chubs scene, K at a time; Out is its result.
+/// A batched evaluator over 1024 boxes of the scene (chubs), K at a time; Out is its result.
 template <class Batch, class Out>
-void run_batch(benchmark::State& state) {
+void run_batch(benchmark::State& state, const Scene& scene = chubs()) {
   constexpr int K = Batch::kLanes;
-  const Tape& t = *chubs().tape;
+  const Tape& t = *scene.tape;
   Batch e(t);
   std::vector<IBox> boxes;
-  for (const Vec3& p : points(chubs().bounds, 1024)) boxes.push_back(box_at(p));
+  for (const Vec3& p : points(scene.bounds, 1024)) boxes.push_back(box_at(p));
   RoundingScope scope;
   Out out[K];
   for (auto _ : state) {
@@ -112,10 +119,10 @@ BENCHMARK(BM_BatchIntervalGradEval<16>);
 
 // The batched point evaluator on the same points, K at a time (ns per operation per point).
 template <int K>
-void BM_BatchPointEval(benchmark::State& state) {
-  const Tape& t = *chubs().tape;
+void run_point_batch(benchmark::State& state, const Scene& scene) {
+  const Tape& t = *scene.tape;
   BatchPointEvalK<K> e(t);
-  const auto pts = points(chubs().bounds, 1024);
+  const auto pts = points(scene.bounds, 1024);
   RoundingScope scope;
   double out[K];
   for (auto _ : state) {
@@ -128,9 +135,43 @@ void BM_BatchPointEval(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(state.iterations()) * 1024 * t.op_count(),
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
+template <int K>
+void BM_BatchPointEval(benchmark::State& state) {
+  run_point_batch<K>(state, chubs());
+}
 BENCHMARK(BM_BatchPointEval<4>);
 BENCHMARK(BM_BatchPointEval<8>);
 BENCHMARK(BM_BatchPointEval<16>);
+
+// The same on blobby (exp in the kernels of elementary.h: two ends in one pass in the scalar
+// interval rule, in vectors in the batches).
+void BM_BlobbyPointEval(benchmark::State& state) {
+  run_tape<PointEval>(
+      state, [](PointEval& e, const Vec3& p) { return e.eval(p); }, blobby());
+}
+BENCHMARK(BM_BlobbyPointEval);
+void BM_BlobbyBatchPointEval16(benchmark::State& state) {
+  run_point_batch<16>(state, blobby());
+}
+BENCHMARK(BM_BlobbyBatchPointEval16);
+void BM_BlobbyIntervalEval(benchmark::State& state) {
+  run_tape<IntervalEval>(
+      state, [](IntervalEval& e, const Vec3& p) { return e.eval(box_at(p)); }, blobby());
+}
+BENCHMARK(BM_BlobbyIntervalEval);
+void BM_BlobbyBatchIntervalEval4(benchmark::State& state) {
+  run_batch<BatchIntervalEvalK<4>, Interval>(state, blobby());
+}
+BENCHMARK(BM_BlobbyBatchIntervalEval4);
+void BM_BlobbyIntervalGradEval(benchmark::State& state) {
+  run_tape<IntervalGradEval>(
+      state, [](IntervalGradEval& e, const Vec3& p) { return e.eval(box_at(p)); }, blobby());
+}
+BENCHMARK(BM_BlobbyIntervalGradEval);
+void BM_BlobbyBatchIntervalGradEval4(benchmark::State& state) {
+  run_batch<BatchIntervalGradEvalK<4>, IGrad>(state, blobby());
+}
+BENCHMARK(BM_BlobbyBatchIntervalGradEval4);
 
 // The cost of the per-operation rounding-mode switch that RoundingScope avoids.
 void BM_IntervalMulWithModeSwitch(benchmark::State& state) {
