@@ -150,13 +150,21 @@ ConeAngle cone_half_angle(const IBox& b) {
   const Vec3 c = box_centre(b);
   const double lc = length(c);
   if (!(lc > 0)) return {};
+  // Per axis, each end's product with the centre and its square: a corner's dot(v, c) and
+  // dot(v, v) are sums of these in dot()'s order, so the same doubles as length(v) and
+  // dot(v, c) of the corner, with 12 products instead of 48.
+  const double ex[2] = {b.x.lo(), b.x.hi()}, ey[2] = {b.y.lo(), b.y.hi()},
+               ez[2] = {b.z.lo(), b.z.hi()};
+  const double px[2] = {ex[0] * c.x, ex[1] * c.x}, py[2] = {ey[0] * c.y, ey[1] * c.y},
+               pz[2] = {ez[0] * c.z, ez[1] * c.z};
+  const double sx[2] = {ex[0] * ex[0], ex[1] * ex[1]}, sy[2] = {ey[0] * ey[0], ey[1] * ey[1]},
+               sz[2] = {ez[0] * ez[0], ez[1] * ez[1]};
   double worst = 1.0;  // smallest cosine
   for (int k = 0; k < 8; ++k) {
-    const Vec3 v{(k & 1) ? b.x.hi() : b.x.lo(), (k & 2) ? b.y.hi() : b.y.lo(),
-                 (k & 4) ? b.z.hi() : b.z.lo()};
-    const double lv = length(v);
+    const int i = k & 1, j = (k >> 1) & 1, l = (k >> 2) & 1;
+    const double lv = std::sqrt(sx[i] + sy[j] + sz[l]);
     if (!(lv > 0)) return {};
-    const double cv = dot(v, c) / (lv * lc);
+    const double cv = (px[i] + py[j] + pz[l]) / (lv * lc);
     if (!(cv > 0)) return {};  // 90 degrees or more (or NaN, which std::min would skip)
     worst = std::min(worst, cv);
   }
