@@ -354,36 +354,26 @@ class DepthSearch {
   }
 
   /// Evaluates the boxes `box_of(lane)` of the lanes which[0..k), each counted as one evaluation
-  /// of its beam: in one pass of the context's batch, `many(boxes, k, results, partials)`, for
-  /// two or more where the context has it (the same intervals as one at a time), else with `one`
-  /// (an evaluation through ctx_.se). Hands each lane its result and partial-domain flag:
-  /// `done(lane, result, partial)`.
-  template <class BoxOf, class One, class Many, class Done>
-  void evaluate(const int* which, int k, BoxOf box_of, One one, Many many, Done done) {
+  /// of its beam, with `many(boxes, k, results, partials)` (the context's batch calls: one pass
+  /// for two or more where it has the batch, the same intervals as one at a time). Hands each
+  /// lane its result and partial-domain flag: `done(lane, result, partial)`.
+  template <class Result, class BoxOf, class Many, class Done>
+  void evaluate(const int* which, int k, BoxOf box_of, Many many, Done done) {
     if (k == 0) return;
-    for (int j = 0; j < k; ++j) ++lanes_[which[j]].out->evals;
-    if (k >= 2 && ctx_.batched) {
-      using Result = decltype(one(std::declval<const IBox&>(), std::declval<bool*>()));
-      IBox boxes[kMost];
-      Result r[kMost];
-      bool partial[kMost];
-      for (int j = 0; j < k; ++j) boxes[j] = box_of(lanes_[which[j]]);
-      many(boxes, k, r, partial);
-      for (int j = 0; j < k; ++j) done(lanes_[which[j]], r[j], partial[j]);
-      return;
-    }
+    IBox boxes[kMost];
+    Result r[kMost];
+    bool partial[kMost];
     for (int j = 0; j < k; ++j) {
-      Lane& l = lanes_[which[j]];
-      bool partial = false;
-      const auto r = one(box_of(l), &partial);
-      done(l, r, partial);
+      ++lanes_[which[j]].out->evals;
+      boxes[j] = box_of(lanes_[which[j]]);
     }
+    many(boxes, k, r, partial);
+    for (int j = 0; j < k; ++j) done(lanes_[which[j]], r[j], partial[j]);
   }
   /// F over the lanes' pieces: their natural enclosures (into f, the flags into partial).
   void naturals(const int* which, int k) {
-    evaluate(
+    evaluate<Interval>(
         which, k, [](const Lane& l) -> const IBox& { return l.box; },
-        [&](const IBox& b, bool* p) { return ctx_.eval(b, p); },
         [&](const IBox* b, int n, Interval* r, bool* p) { ctx_.eval_batch(b, n, r, p); },
         [](Lane& l, const Interval& f, bool partial) {
           l.f = f;
@@ -392,17 +382,15 @@ class DepthSearch {
   }
   /// F over the points of the lanes' mean-value forms (into fc).
   void points(const int* which, int k) {
-    evaluate(
+    evaluate<Interval>(
         which, k, [](const Lane& l) -> const IBox& { return l.mvf.c; },
-        [&](const IBox& b, bool* p) { return ctx_.eval(b, p); },
         [&](const IBox* b, int n, Interval* r, bool* p) { ctx_.eval_batch(b, n, r, p); },
         [](Lane& l, const Interval& f, bool) { l.fc = f; });
   }
   /// F and its gradient over the lanes' pieces into g, the partial-domain flag into .*partial.
   void grads(const int* which, int k, bool Lane::*partial) {
-    evaluate(
+    evaluate<IGrad>(
         which, k, [](const Lane& l) -> const IBox& { return l.box; },
-        [&](const IBox& b, bool* p) { return ctx_.eval_grad(b, p); },
         [&](const IBox* b, int n, IGrad* r, bool* p) { ctx_.eval_grad_batch(b, n, r, p); },
         [partial](Lane& l, const IGrad& g, bool p) {
           l.g = g;
@@ -683,9 +671,9 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
   // The pieces of a level are evaluated in groups, front to back: up to the batch's lanes in one
   // pass where the context has the gradient batch (the intervals one at a time gives, but for the
   // signs of zero bounds of partials on tapes with min or max, which unit_dot does not tell
-  // apart), else one by one. A group may evaluate a few pieces past the point where the level's
-  // decision is made; they are counted and their results dropped, so the estimate is the one of
-  // the pieces in order.
+  // apart), else one by one (RenderContext::eval_grad_batch). A group may evaluate a few pieces
+  // past the point where the level's decision is made; they are counted and their results dropped,
+  // so the estimate is the one of the pieces in order.
   constexpr int kGroup = SpecializingEval::kBatch;
   IGrad g[kGroup];
   bool partial[kGroup];
@@ -704,11 +692,7 @@ Interval beam_estimator(RenderContext& ctx, const BeamSearch& s, int pieces, dou
           boxes[j] =
               segment_box(ctx.setup.frame.eye, s.dirs, Interval(cur[k0 + j].t0, cur[k0 + j].t1));
         }
-        if (count >= 2 && ctx.batched) {
-          ctx.eval_grad_batch(boxes, count, g, partial);
-        } else {
-          for (int j = 0; j < count; ++j) g[j] = ctx.eval_grad(boxes[j], &partial[j]);
-        }
+        ctx.eval_grad_batch(boxes, count, g, partial);
       }
       for (int j = 0; j < count; ++j) {
         const Piece p = cur[k0 + j];

@@ -75,10 +75,15 @@ struct RenderContext {
     if (partial) *partial = se.partial_domain();
     return g;
   }
-  /// F over boxes[0..n), 1 <= n <= 4, in one pass of `se`'s batch (the interval eval() gives
-  /// each box; with min or max, the tape of a region that holds them all), counted; the
-  /// partial-domain flags into partial[0..n). Only where `batched`.
+  /// F over boxes[0..n), 1 <= n <= 4, each counted, the partial-domain flags into
+  /// partial[0..n): in one pass of `se`'s batch for two or more where `batched` (the interval
+  /// eval() gives each box; with min or max, the tape of a region that holds them all), else
+  /// one at a time, in order.
   void eval_batch(const IBox* boxes, int n, Interval* out, bool* partial) {
+    if (n < 2 || !batched) {
+      for (int j = 0; j < n; ++j) out[j] = eval(boxes[j], &partial[j]);
+      return;
+    }
     evals += static_cast<std::uint64_t>(n);
     se.eval_batch(boxes, n, out, partial);
   }
@@ -86,6 +91,10 @@ struct RenderContext {
   /// bounds of partial derivatives on tapes with min or max, which no test of the renderer tells
   /// apart).
   void eval_grad_batch(const IBox* boxes, int n, IGrad* out, bool* partial) {
+    if (n < 2 || !batched) {
+      for (int j = 0; j < n; ++j) out[j] = eval_grad(boxes[j], &partial[j]);
+      return;
+    }
     evals += static_cast<std::uint64_t>(n);
     se.eval_grad_batch(boxes, n, out, partial);
   }

@@ -48,21 +48,20 @@ void certify(RenderContext& ctx, const Vec3& o, const IBox& dir, const Interval&
 }
 
 /// A PieceStack whose pieces carry F over their boxes (the segment's pieces clipped to the
-/// bounds) and its partial-domain flag, evaluated ahead: when the top piece has none yet, it and
-/// the next pieces below it without one, up to kAhead, are evaluated in one call of `eval(boxes,
-/// k, out, partial)`. A piece whose clipped box is empty gets the empty interval without an
-/// evaluation, as the searches one piece at a time skip it. Pushed pieces have no value until
-/// evaluated; a piece evaluated ahead keeps its value under the pieces pushed above it. So the
-/// pieces popped, and their enclosures, are those of a search one piece at a time; only the
-/// evaluations of pieces never popped (past a hit) are spent in vain.
-template <class Eval>
+/// bounds), evaluated ahead: when the top piece has none yet, it and the next pieces below it
+/// without one, up to kAhead, are evaluated in one call of RenderContext::eval_batch. A piece whose
+/// clipped box is empty gets the empty interval without an evaluation, as the searches one piece at
+/// a time skip it. Pushed pieces have no value until evaluated; a piece evaluated ahead keeps its
+/// value under the pieces pushed above it. So the pieces popped, and their enclosures, are those of
+/// a search one piece at a time; only the evaluations of pieces never popped (past a hit) are spent
+/// in vain.
 class EvaluatedPieceStack {
  public:
   static constexpr int kCapacity = PieceStack::kCapacity;
   static constexpr int kAhead = SpecializingEval::kBatch;
 
-  EvaluatedPieceStack(const Vec3& o, const IBox& dir, const Box3& bounds, Eval eval)
-      : o_(o), dir_(dir), bounds_(bounds), eval_(eval) {}
+  EvaluatedPieceStack(RenderContext& ctx, const Vec3& o, const IBox& dir)
+      : ctx_(ctx), o_(o), dir_(dir) {}
 
   /// False when full: the caller must then treat the piece conservatively (keep it).
   bool push(double a, double b) {
@@ -74,15 +73,14 @@ class EvaluatedPieceStack {
     return true;
   }
   bool has_room(int k) const { return n_ + k <= kCapacity; }
-  /// The top piece [a, b], F over its box and the partial-domain flag of that evaluation.
-  bool pop(double* a, double* b, Interval* f, bool* partial) {
+  /// The top piece [a, b] and F over its box.
+  bool pop(double* a, double* b, Interval* f) {
     if (n_ == 0) return false;
     if (!done_[n_ - 1]) evaluate_ahead();
     --n_;
     *a = a_[n_];
     *b = b_[n_];
     *f = Interval::raw(lo_[n_], hi_[n_]);
-    *partial = partial_[n_];
     return true;
   }
 
@@ -94,51 +92,35 @@ class EvaluatedPieceStack {
     for (int i = n_ - 1; i >= 0 && k < kAhead; --i) {
       if (done_[i]) continue;
       done_[i] = true;
-      boxes[k] = clip_box(segment_box(o_, dir_, Interval(a_[i], b_[i])), bounds_);
+      boxes[k] = clip_box(segment_box(o_, dir_, Interval(a_[i], b_[i])), ctx_.bounds());
       if (boxes[k].is_empty()) {
         lo_[i] = Interval::kInf;  // the empty interval
         hi_[i] = -Interval::kInf;
-        partial_[i] = false;
       } else {
         which[k++] = i;
       }
     }
     if (k == 0) return;
     Interval out[kAhead];
-    bool partial[kAhead];
-    eval_(boxes, k, out, partial);
+    bool partial[kAhead];  // not used: the searches one piece at a time did not look at it
+    ctx_.eval_batch(boxes, k, out, partial);
     for (int j = 0; j < k; ++j) {
       lo_[which[j]] = out[j].lo();
       hi_[which[j]] = out[j].hi();
-      partial_[which[j]] = partial[j];
     }
   }
 
+  RenderContext& ctx_;
   const Vec3& o_;
   const IBox& dir_;
-  const Box3& bounds_;
-  Eval eval_;
   // Left uninitialised, as PieceStack's (only entries below n_ are read).
   double a_[kCapacity];
   double b_[kCapacity];
   double lo_[kCapacity];
   double hi_[kCapacity];
-  bool partial_[kCapacity];
   bool done_[kCapacity];
   int n_ = 0;
 };
-
-/// The evaluations of an EvaluatedPieceStack: one pass of the context's batch for two or more
-/// boxes where it has one, else one at a time (each counted).
-auto piece_evaluator(RenderContext& ctx) {
-  return [&ctx](const IBox* boxes, int k, Interval* out, bool* partial) {
-    if (k >= 2 && ctx.batched) {
-      ctx.eval_batch(boxes, k, out, partial);
-    } else {
-      for (int j = 0; j < k; ++j) out[j] = ctx.eval(boxes[j], &partial[j]);
-    }
-  };
-}
 
 }  // namespace
 
@@ -231,7 +213,7 @@ bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interva
   if (range.is_empty()) return false;
   // F over each piece is evaluated ahead, up to four pieces per pass of the batched evaluator
   // (EvaluatedPieceStack): the pieces and their enclosures of a search one piece at a time.
-  EvaluatedPieceStack st(o, dir, ctx.bounds(), piece_evaluator(ctx));
+  EvaluatedPieceStack st(ctx, o, dir);
   // Pieces of width first, first, 2 first, 4 first, ... from the front (each after the first as
   // wide as all before it), pushed back to front: each is excluded with one evaluation where
   // bisection of the whole range would spend two per level on the way down to the front.
@@ -248,8 +230,7 @@ bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interva
   for (int k = n - 1; k > 0; --k) st.push(ends[k - 1], ends[k]);
   double a = 0, b = 0;
   Interval f;
-  bool partial = false;
-  while (st.pop(&a, &b, &f, &partial)) {
+  while (st.pop(&a, &b, &f)) {
     if (f.is_empty() || !f.contains_zero()) continue;
     if (narrowest && a >= from) *narrowest = std::min(*narrowest, b - a);
     const double m = 0.5 * (a + b);
