@@ -162,6 +162,19 @@ class Interval {
 #endif
   }
 
+#if defined(__SSE2__)
+  /// The bounds as one vector (lo in lane 0, hi in lane 1), and back: for operations that work
+  /// on both bounds at once (operator*).
+  __m128d pd() const {
+    return _mm_loadu_pd(&lo_);
+  }
+  static Interval from_pd(__m128d v) {
+    Interval r;
+    _mm_storeu_pd(&r.lo_, v);
+    return r;
+  }
+#endif
+
   friend bool operator==(const Interval& a, const Interval& b) {
     return (a.is_empty() && b.is_empty()) || (a.lo_ == b.lo_ && a.hi_ == b.hi_);
   }
@@ -260,6 +273,27 @@ Interval mul_general(const Interval& a, const Interval& b);
 }  // namespace detail
 
 inline Interval operator*(const Interval& a, const Interval& b) {
+#if defined(__SSE2__)
+  // Both bounds in one pass: lane 1 computes hi as below, lane 0 computes -lo from the negated
+  // factors, the same products in the same order, so the bounds are bit for bit the scalar
+  // code's (std::max(x, y) is _mm_max_pd(y, x): both give x when neither is greater, so even
+  // the signs of zero bounds agree). Half the instructions of the scalar code.
+  const __m128d va = a.pd(), vb = b.pd();
+  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
+  const __m128d m = _mm_max_pd(_mm_and_pd(va, magnitude), _mm_and_pd(vb, magnitude));
+  if (_mm_cvtsd_f64(_mm_max_sd(m, _mm_unpackhi_pd(m, m))) <= std::numeric_limits<double>::max())
+      [[likely]] {
+    const __m128d sign_lo = _mm_set_pd(0.0, -0.0);                   // flips lane 0 only
+    const __m128d u = _mm_xor_pd(_mm_unpacklo_pd(va, va), sign_lo);  // (-al, al)
+    const __m128d v = _mm_xor_pd(_mm_unpackhi_pd(va, va), sign_lo);  // (-ah, ah)
+    const __m128d bl = _mm_unpacklo_pd(vb, vb), bh = _mm_unpackhi_pd(vb, vb);
+    const auto max = [](__m128d x, __m128d y) { return _mm_max_pd(y, x); };  // std::max(x, y)
+    const __m128d p =
+        max(max(_mm_mul_pd(u, bl), _mm_mul_pd(u, bh)), max(_mm_mul_pd(v, bl), _mm_mul_pd(v, bh)));
+    return Interval::from_pd(_mm_xor_pd(p, sign_lo));
+  }
+  return detail::mul_general(a, b);
+#else
   const double al = a.lo(), ah = a.hi(), bl = b.lo(), bh = b.hi();
   if (detail::all_finite(al, ah, bl, bh)) [[likely]] {
     // Branch-free: the bounds are the extreme endpoint products. With the FPU rounding upward,
@@ -271,6 +305,7 @@ inline Interval operator*(const Interval& a, const Interval& b) {
     return Interval::raw(lo, hi);
   }
   return detail::mul_general(a, b);
+#endif
 }
 inline Interval& operator+=(Interval& a, const Interval& b) {
   return a = a + b;
