@@ -8,6 +8,7 @@
 #include "expr/eval_batch.h"
 #include "expr/eval_batch_grad.h"
 #include "expr/eval_batch_point.h"
+#include "expr/ray_poly.h"
 #include "expr/specialize.h"
 #include "render/mean_value_budget.h"
 #include "scene/camera.h"
@@ -51,6 +52,9 @@ struct RenderContext {
   /// Four points per pass (the steps of a Full part's shading march, kernel_iaa.cpp), on the
   /// same tapes as batch_point.
   std::optional<BatchPointEvalK<4>> batch_point4;
+  /// Where f is a polynomial (of degree at most RayPolynomial::kMaxDegree): its restriction to a
+  /// ray, for the searches of shading rays (search_shading_ray).
+  std::optional<RayPolynomial> ray_poly;
 
   explicit RenderContext(const RenderSetup& s) : setup(s), se(*s.scene->tape) {
     const Tape& tape = *s.scene->tape;
@@ -59,6 +63,8 @@ struct RenderContext {
       batch_point.emplace(tape);
       batch_point4.emplace(tape);
     }
+    ray_poly.emplace(tape);
+    if (!ray_poly->usable()) ray_poly.reset();
   }
 
   /// F over a box, counted. `partial` receives partial_domain().

@@ -161,8 +161,8 @@ double full_root(RenderContext& ctx, const Vec3& d, const BeamSearch& s, double 
   if (s.t_far - a > kRootSearchFrom * first) {
     const IBox dir(Interval(d.x), Interval(d.y), Interval(d.z));
     // From t_near: no ray of the part meets the surface before it (a may be t_s).
-    const RayHit h = search_ray(ctx, eye, dir, Interval(s.t_near, s.t_far), tol,
-                                ctx.setup.frame.scale * s.t_far * 4, false);
+    const RayHit h = search_shading_ray(ctx, eye, dir, Interval(s.t_near, s.t_far), tol,
+                                        ctx.setup.frame.scale * s.t_far * 4);
     if (h.hit) return h.t.mid();
   }
   // The march's steps four at a time by the point batch (the whole tape's values: those of `se`'s
@@ -465,10 +465,10 @@ class IaaPixel {
       return;
     }
     const IBox dir = su_.frame.dir_box(ph->u, ph->v);
-    h = search_ray(ctx_, su_.frame.eye, dir, sr, shade_tol, su_.frame.scale * sr.hi() * 4, false);
+    h = search_shading_ray(ctx_, su_.frame.eye, dir, sr, shade_tol, su_.frame.scale * sr.hi() * 4);
     if (!h.hit && sr.hi() < range.hi()) {
-      h = search_ray(ctx_, su_.frame.eye, dir, Interval(sr.hi(), range.hi()), shade_tol,
-                     su_.frame.scale * range.hi() * 4, false);
+      h = search_shading_ray(ctx_, su_.frame.eye, dir, Interval(sr.hi(), range.hi()), shade_tol,
+                             su_.frame.scale * range.hi() * 4);
     }
     ph->central = h.hit;
     // The coverage rays, at the centres of the part's quarters (kCoverageRays 2), marched over

@@ -1,8 +1,10 @@
 #include "render/ray_search.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
+#include "expr/ray_poly.h"
 #include "render/piece_stack.h"
 #include "scene/camera.h"
 
@@ -204,6 +206,66 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
     }
     st.push(m, b);
     st.push(a, m);
+  }
+  return out;
+}
+
+RayHit search_shading_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range,
+                          double tol, double newton_from) {
+  if (!ctx.ray_poly) return search_ray(ctx, o, dir, range, tol, newton_from, false);
+  RayHit out;
+  if (range.is_empty()) return out;
+  RayPolynomial& rp = *ctx.ray_poly;
+  const int n = rp.degree();
+  constexpr int kCoefs = RayPolynomial::kMaxDegree + 1;
+  // Pieces [sa, sb] of s = t - t0 with the Bernstein coefficients of g over them, searched front
+  // to back as search_ray's: a depth-first bisection keeps one piece per level plus one.
+  struct Piece {
+    double sa, sb;
+    Interval b[kCoefs];
+  };
+  constexpr int kCapacity = 64;
+  Piece st[kCapacity];
+  int top = 0;
+  const double t0 = range.lo();
+  double len = 0;
+  {
+    Interval c[kCoefs];
+    rp.restrict(o, dir, t0, c);
+    len = (Interval(range.hi()) - Interval(t0)).hi();  // rounded up: covers range
+    st[0].sa = 0;
+    st[0].sb = len;
+    bernstein_from_power(c, n, len, st[0].b);
+    top = 1;
+  }
+  // Pieces that leave the bounds are kept only where their box meets them (as search_ray's); the
+  // hull over the whole piece encloses g over the part inside. Where the whole range lies inside
+  // (most shading rays), no piece needs the test.
+  const bool inside =
+      box_inside(segment_box(o, dir, Interval(t0) + Interval(0, len)), ctx.bounds());
+  while (top > 0) {
+    Piece& p = st[--top];
+    ++ctx.evals;  // an enclosure of F over the piece
+    const Interval t = Interval(t0) + Interval(p.sa, p.sb);
+    if (!inside && clip_box(segment_box(o, dir, t), ctx.bounds()).is_empty()) continue;
+    if (!bernstein_hull(p.b, n).contains_zero()) continue;
+    // The halves' ends: each half's claimed range holds the exact half de Casteljau's step
+    // describes (its ends meet at the exact midpoint, between these two doubles).
+    const double m_up = 0.5 * (p.sa + p.sb), m_dn = -(0.5 * ((-p.sa) - p.sb));
+    if (t.width() <= tol || !(m_dn > p.sa) || !(m_up < p.sb) || top + 2 > kCapacity) {
+      out.hit = true;
+      out.t = t;
+      return out;
+    }
+    // p is the top slot: the second half goes there, the first half above it (popped first).
+    Interval right[kCoefs];
+    Piece& first = st[top + 1];
+    bernstein_halves(p.b, n, first.b, right);
+    first.sa = p.sa;
+    first.sb = m_up;
+    p.sa = m_dn;
+    std::copy(right, right + n + 1, p.b);
+    top += 2;
   }
   return out;
 }

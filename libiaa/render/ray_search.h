@@ -25,6 +25,15 @@ struct RayHit {
 RayHit search_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
                   double tol, double newton_from, bool certify = true);
 
+/// The first possible root along a shading ray (an IAA part's central ray), uncertified: where f
+/// is a polynomial of degree at most RayPolynomial::kMaxDegree, by bisection of the ray's
+/// restriction in Bernstein form (expr/ray_poly.h), one polynomial per ray and no pass over the
+/// tape per piece; else search_ray(..., certify = false). Both keep every piece whose enclosure
+/// holds 0, so neither steps over a root; the Bernstein hull is tighter, so a ray that passes
+/// just beside the surface is more often found to miss it. Needs a RoundingScope.
+RayHit search_shading_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
+                          double tol, double newton_from);
+
 /// True when some point of the segment origin + s * dir, s in range, may lie on the surface
 /// (a shadow ray). Stops at the first piece of width <= tol that still contains 0. With `first`
 /// > 0 the range is first cut into pieces of width first, first, 2 first, 4 first, ... from its
