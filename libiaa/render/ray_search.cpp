@@ -19,6 +19,24 @@ Interval dot(const std::array<Interval, 3>& g, const IBox& d) {
   return g[0] * d.x + g[1] * d.y + g[2] * d.z;
 }
 
+/// Pushes `range` onto `st` as pieces to search front to back: with `first` > 0, pieces of width
+/// first, first, 2 first, 4 first, ... from the front (each after the first as wide as all
+/// before it; at most kMaxMarch), pushed back to front; else the whole range as one piece.
+template <class Stack>
+void push_march(Stack& st, Interval range, double first) {
+  double ends[kMaxMarch + 1];
+  int n = 0;
+  ends[n++] = range.lo();
+  double w = first;  // width of the next piece
+  while (first > 0 && n < kMaxMarch && ends[n - 1] + w < range.hi()) {
+    ends[n] = ends[n - 1] + w;
+    ++n;
+    if (n > 2) w *= 2;
+  }
+  ends[n++] = range.hi();
+  for (int k = n - 1; k > 0; --k) st.push(ends[k - 1], ends[k]);
+}
+
 /// Sign of f at the exact point origin + t * dir: +1, -1, or 0 when intervals cannot tell.
 int sign_at(RenderContext& ctx, const Vec3& o, const IBox& dir, double t) {
   const IBox p = segment_box(o, dir, Interval(t));
@@ -127,11 +145,23 @@ class EvaluatedPieceStack {
 }  // namespace
 
 RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range, double tol,
-                  double newton_from, bool certify_hit) {
+                  double newton_from, bool certify_hit, double first) {
   RayHit out;
   if (range.is_empty()) return out;
   PieceStack st;
-  st.push(range.lo(), range.hi());
+  {
+    double ends[kMaxMarch + 1];
+    int n = 0;
+    ends[n++] = range.lo();
+    double w = first;
+    while (first > 0 && n < kMaxMarch && ends[n - 1] + w < range.hi()) {
+      ends[n] = ends[n - 1] + w;
+      ++n;
+      if (n > 2) w *= 2;
+    }
+    ends[n++] = range.hi();
+    for (int k = n - 1; k > 0; --k) st.push(ends[k - 1], ends[k]);
+  }
   // Newton is tried once pieces are this narrow; wider pieces rarely have F' away from 0.
   // (The pieces are evaluated one at a time: evaluated ahead two or four per pass, as
   // segment_may_hit's, the halves of kept pieces mostly came in vain, and chubs took 1.018x the
@@ -211,8 +241,8 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
 }
 
 RayHit search_shading_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval range,
-                          double tol, double newton_from) {
-  if (!ctx.ray_poly) return search_ray(ctx, o, dir, range, tol, newton_from, false);
+                          double tol, double newton_from, double first) {
+  if (!ctx.ray_poly) return search_ray(ctx, o, dir, range, tol, newton_from, false, first);
   RayHit out;
   if (range.is_empty()) return out;
   RayPolynomial& rp = *ctx.ray_poly;
@@ -276,20 +306,9 @@ bool segment_may_hit(RenderContext& ctx, const Vec3& o, const IBox& dir, Interva
   // F over each piece is evaluated ahead, up to four pieces per pass of the batched evaluator
   // (EvaluatedPieceStack): the pieces and their enclosures of a search one piece at a time.
   EvaluatedPieceStack st(ctx, o, dir);
-  // Pieces of width first, first, 2 first, 4 first, ... from the front (each after the first as
-  // wide as all before it), pushed back to front: each is excluded with one evaluation where
-  // bisection of the whole range would spend two per level on the way down to the front.
-  double ends[kMaxMarch + 1];
-  int n = 0;
-  ends[n++] = range.lo();
-  double w = first;  // width of the next piece
-  while (first > 0 && n < kMaxMarch && ends[n - 1] + w < range.hi()) {
-    ends[n] = ends[n - 1] + w;
-    ++n;
-    if (n > 2) w *= 2;
-  }
-  ends[n++] = range.hi();
-  for (int k = n - 1; k > 0; --k) st.push(ends[k - 1], ends[k]);
+  // Marched from the front: each piece is excluded with one evaluation where bisection of the
+  // whole range would spend two per level on the way down to the front.
+  push_march(st, range, first);
   double a = 0, b = 0;
   Interval f;
   while (st.pop(&a, &b, &f)) {

@@ -18,12 +18,14 @@ struct RayHit {
 
 /// Searches origin + t * dir for t in `range`, front to back, inside the scene bounds. `dir` is
 /// an enclosure of the exact direction (a degenerate box for a double direction). Pieces are
-/// narrowed to width `tol`; interval Newton is tried on pieces no wider than `newton_from`.
+/// narrowed to width `tol`; interval Newton is tried on pieces no wider than `newton_from`. With
+/// `first` > 0 the range is first cut into pieces of width first, first, 2 first, 4 first, ...
+/// from its front (as segment_may_hit's), else bisected from the whole.
 /// With `certify` false, a hit found by bisection is not tried for a proved sign change
 /// (`certified` then only reports interval Newton's proofs): for callers that only need where the
 /// first possible root is, such as the shading point of an IAA part. Needs a RoundingScope.
 RayHit search_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
-                  double tol, double newton_from, bool certify = true);
+                  double tol, double newton_from, bool certify = true, double first = 0);
 
 /// The first possible root along a shading ray (an IAA part's central ray), uncertified: where f
 /// is a polynomial of degree at most RayPolynomial::kMaxDegree, by bisection of the ray's
@@ -32,7 +34,7 @@ RayHit search_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Inter
 /// holds 0, so neither steps over a root; the Bernstein hull is tighter, so a ray that passes
 /// just beside the surface is more often found to miss it. Needs a RoundingScope.
 RayHit search_shading_ray(RenderContext& ctx, const Vec3& origin, const IBox& dir, Interval range,
-                          double tol, double newton_from);
+                          double tol, double newton_from, double first = 0);
 
 /// True when some point of the segment origin + s * dir, s in range, may lie on the surface
 /// (a shadow ray). Stops at the first piece of width <= tol that still contains 0. With `first`
