@@ -56,7 +56,8 @@ class RayPolynomial {
 void bernstein_from_power(const Interval* c, int n, double len, Interval* b);
 
 /// De Casteljau's step at 1/2: from Bernstein coefficients b[0..n] over a piece, those over its
-/// first half (`left`) and its second half (`right`). Outward rounded; needs a RoundingScope.
+/// first half (`left`) and its second half (`right`). `right` may be `b` itself (b is read
+/// before either is written). Outward rounded; needs a RoundingScope.
 void bernstein_halves(const Interval* b, int n, Interval* left, Interval* right);
 
 /// The hull of b[0..n]: an enclosure of g over the piece.

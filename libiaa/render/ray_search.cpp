@@ -149,19 +149,7 @@ RayHit search_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, Interval r
   RayHit out;
   if (range.is_empty()) return out;
   PieceStack st;
-  {
-    double ends[kMaxMarch + 1];
-    int n = 0;
-    ends[n++] = range.lo();
-    double w = first;
-    while (first > 0 && n < kMaxMarch && ends[n - 1] + w < range.hi()) {
-      ends[n] = ends[n - 1] + w;
-      ++n;
-      if (n > 2) w *= 2;
-    }
-    ends[n++] = range.hi();
-    for (int k = n - 1; k > 0; --k) st.push(ends[k - 1], ends[k]);
-  }
+  push_march(st, range, first);
   // Newton is tried once pieces are this narrow; wider pieces rarely have F' away from 0.
   // (The pieces are evaluated one at a time: evaluated ahead two or four per pass, as
   // segment_may_hit's, the halves of kept pieces mostly came in vain, and chubs took 1.018x the
@@ -288,13 +276,11 @@ RayHit search_shading_ray(RenderContext& ctx, const Vec3& o, const IBox& dir, In
       return out;
     }
     // p is the top slot: the second half goes there, the first half above it (popped first).
-    Interval right[kCoefs];
     Piece& first = st[top + 1];
-    bernstein_halves(p.b, n, first.b, right);
+    bernstein_halves(p.b, n, first.b, p.b);
     first.sa = p.sa;
     first.sb = m_up;
     p.sa = m_dn;
-    std::copy(right, right + n + 1, p.b);
     top += 2;
   }
   return out;
